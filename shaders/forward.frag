@@ -1,0 +1,39 @@
+#version 460
+
+// Forward shading: L = sum over lights of f_r(wi, wo) * radiance / d^2 * max(0, n . wi), no ambient.
+
+#include "common/scene.glsl"
+#include "common/brdf.glsl"
+
+layout(location = 0) in vec4 in_world_position;
+layout(location = 1) in vec3 in_world_normal;
+
+layout(location = 0) out vec4 out_radiance;
+
+void main() {
+    ObjectData object = objects[draw.object_index];
+    // Interpolating a homogeneous position is exact in clip space; w tends to 0 towards the plane's horizon.
+    // Past 1e7 units a point light's 1/d^2 is nil, and dividing there would overflow.
+    if (in_world_position.w <= 1e-7 * length(in_world_position.xyz)) {
+        out_radiance = vec4(0.0, 0.0, 0.0, 1.0);
+        return;
+    }
+    vec3 p = in_world_position.xyz / in_world_position.w;
+    vec3 n = normalize(in_world_normal);
+    vec3 wo = normalize(frame.camera_position.xyz - p);
+    if (object.flags.x != 0u && dot(n, wo) < 0.0) {
+        n = -n;
+    }
+    vec3 radiance = vec3(0.0);
+    for (uint i = 0u; i < frame.light_count; ++i) {
+        vec3 to_light = lights[i].position.xyz - p;
+        float d2 = dot(to_light, to_light);
+        vec3 wi = to_light * inversesqrt(d2);
+        float NoL = dot(n, wi);
+        if (NoL <= 0.0) {
+            continue;  // the light is behind the surface
+        }
+        radiance += brdf_eval(object.material, n, wi, wo) * (lights[i].radiance.rgb / d2) * NoL;
+    }
+    out_radiance = vec4(radiance, 1.0);
+}

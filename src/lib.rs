@@ -1,0 +1,19 @@
+//! vk-render: classic BRDFs rendered through a real Vulkan rasterizer, offscreen, on lavapipe or any GPU.
+//!
+//! The pieces, in the order a render uses them: [`scene`] reads and validates a scene file (no GPU
+//! types), [`mesh`] builds the geometry, [`render`] draws it with Vulkan through the owners of
+//! [`vulkan`], and [`output`] applies the output transform and writes PNG or EXR files. [`brdf`] is the
+//! Rust mirror of the GLSL reflectance models in `shaders/brdf/`.
+
+pub mod brdf;
+pub mod error;
+pub mod mesh;
+pub mod output;
+pub mod render;
+pub mod scene;
+pub mod vulkan;
+
+pub use error::{Error, Result};
+pub use output::HdrImage;
+pub use render::{Renderer, RendererOptions};
+pub use scene::{Override, Scene};

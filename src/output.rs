@@ -1,0 +1,173 @@
+//! The output transform of SCENE_FORMAT (exposure, tonemap, clamp, encoding) and PNG/EXR files.
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+use crate::scene::{Encoding, ImageSettings, Tonemap};
+
+/// A linear HDR image: RGB radiance per pixel, rows from the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HdrImage {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+impl HdrImage {
+    /// The radiance at pixel (x, y), x from the left and y from the top.
+    pub fn at(&self, x: u32, y: u32) -> Vec3 {
+        self.pixels[(y * self.width + x) as usize]
+    }
+
+    /// The image after the whole output transform, as 8-bit RGB.
+    pub fn to_rgb8(&self, settings: &ImageSettings) -> image::RgbImage {
+        let bytes = self
+            .pixels
+            .iter()
+            .flat_map(|c| (*c * settings.exposure).to_array())
+            .map(|c| encode(tonemap(c, settings.tonemap), settings.encoding))
+            .collect();
+        image::RgbImage::from_raw(self.width, self.height, bytes).expect("one RGB triple per pixel")
+    }
+
+    /// The linear image after exposure, as written to `.exr` files.
+    pub fn exposed(&self, exposure: f32) -> image::Rgb32FImage {
+        let data = self.pixels.iter().flat_map(|c| (*c * exposure).to_array()).collect();
+        image::Rgb32FImage::from_raw(self.width, self.height, data).expect("one RGB triple per pixel")
+    }
+}
+
+/// The tone curve, per channel, applied after exposure.
+pub fn tonemap(c: f32, curve: Tonemap) -> f32 {
+    match curve {
+        Tonemap::Clamp => c,
+        Tonemap::Reinhard => c / (1.0 + c),
+        // Narkowicz 2015, "ACES Filmic Tone Mapping Curve".
+        Tonemap::Aces => c * (2.51 * c + 0.03) / (c * (2.43 * c + 0.59) + 0.14),
+    }
+}
+
+/// Clamps to [0, 1] and encodes one channel to 8 bits. NaN becomes 0 rather than poisoning the image.
+pub fn encode(c: f32, encoding: Encoding) -> u8 {
+    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    match encoding {
+        // The course: x255 and truncate, no gamma.
+        Encoding::Linear => (c * 255.0) as u8,
+        // IEC 61966-2-1, rounded to nearest.
+        Encoding::Srgb => {
+            let v = if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+            (v * 255.0).round() as u8
+        }
+    }
+}
+
+/// The kinds of file an image can be written to, by the output path's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// 8-bit RGB after the whole output transform.
+    Png,
+    /// 32-bit float linear RGB after exposure, before tonemap and encoding.
+    Exr,
+}
+
+impl OutputFormat {
+    /// Checks an output path before any rendering: a known extension and an existing folder.
+    ///
+    /// # Errors
+    /// `Error::Output` naming the path when the extension is not .png/.exr or its folder does not exist.
+    pub fn for_path(path: &Path) -> Result<OutputFormat> {
+        let error = |message: String| Error::Output { path: path.to_path_buf(), message };
+        let format = match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+            Some("png") => OutputFormat::Png,
+            Some("exr") => OutputFormat::Exr,
+            _ => return Err(error("unsupported output file type (expected a .png or .exr path)".into())),
+        };
+        let folder = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        if !folder.is_dir() {
+            return Err(error(format!("the folder {} does not exist", folder.display())));
+        }
+        Ok(format)
+    }
+}
+
+/// Writes the image to `path` (PNG or EXR by extension) through a temporary file in the same folder, so
+/// that a failure never leaves a partial image behind.
+///
+/// # Errors
+/// `Error::Output` naming the path when the file cannot be encoded or written.
+pub fn write_image(hdr: &HdrImage, settings: &ImageSettings, path: &Path) -> Result<()> {
+    let format = OutputFormat::for_path(path)?;
+    let error = |message: String| Error::Output { path: path.to_path_buf(), message };
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    match format {
+        OutputFormat::Png => hdr.to_rgb8(settings).write_to(&mut bytes, image::ImageFormat::Png),
+        OutputFormat::Exr => hdr.exposed(settings.exposure).write_to(&mut bytes, image::ImageFormat::OpenExr),
+    }
+    .map_err(|e| error(format!("cannot encode the image: {e}")))?;
+    let temporary = temporary_path(path);
+    let written = std::fs::write(&temporary, bytes.get_ref()).and_then(|()| std::fs::rename(&temporary, path));
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&temporary);
+        return Err(error(format!("cannot write the file: {e}")));
+    }
+    Ok(())
+}
+
+fn temporary_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(format!(".partial-{}", std::process::id()));
+    path.with_file_name(name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn linear_encoding_truncates_like_the_course() {
+        assert_eq!(encode(0.5, Encoding::Linear), 127); // the grey background
+        assert_eq!(encode(0.596_831, Encoding::Linear), 152); // Figure 1's sphere centre
+        assert_eq!(encode(1.7, Encoding::Linear), 255);
+        assert_eq!(encode(-0.2, Encoding::Linear), 0);
+        assert_eq!(encode(f32::NAN, Encoding::Linear), 0);
+    }
+
+    #[test]
+    fn srgb_encoding_rounds_through_the_transfer_function() {
+        assert_eq!(encode(0.0, Encoding::Srgb), 0);
+        assert_eq!(encode(1.0, Encoding::Srgb), 255);
+        // 1.055 * 0.5^(1/2.4) - 0.055 = 0.735357 -> 187.52 -> 188
+        assert_eq!(encode(0.5, Encoding::Srgb), 188);
+        // linear segment: 12.92 * 0.002 = 0.02584 -> 6.59 -> 7
+        assert_eq!(encode(0.002, Encoding::Srgb), 7);
+    }
+
+    #[test]
+    fn tonemaps_by_hand() {
+        assert_eq!(tonemap(3.0, Tonemap::Clamp), 3.0);
+        assert_eq!(tonemap(1.0, Tonemap::Reinhard), 0.5);
+        // 1 * (2.51 + 0.03) / (2.43 + 0.59 + 0.14) = 2.54 / 3.16 = 0.803797
+        assert!((tonemap(1.0, Tonemap::Aces) - 0.803_797).abs() < 1e-6);
+    }
+
+    #[test]
+    fn exposure_comes_before_the_tonemap() {
+        let settings = ImageSettings {
+            width: 1,
+            height: 1,
+            samples: 1,
+            background: Vec3::ZERO,
+            tonemap: Tonemap::Reinhard,
+            exposure: 2.0,
+            encoding: Encoding::Linear,
+        };
+        let hdr = HdrImage { width: 1, height: 1, pixels: vec![Vec3::new(0.5, 1.0, 0.0)] };
+        // 0.5 * 2 = 1 -> 0.5 -> 127; 1 * 2 = 2 -> 2/3 -> 170
+        assert_eq!(hdr.to_rgb8(&settings).into_raw(), vec![127, 170, 0]);
+    }
+}

@@ -1,0 +1,108 @@
+//! `--set KEY=VALUE`: one value of the scene replaced through a dotted path such as `material.grey.sigma`,
+//! `image.width` or `light.0.power` (arrays of tables take an index).
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::Deserialize;
+use toml::{Table, Value};
+
+use super::file::SceneFile;
+
+/// One `KEY=VALUE` override from the command line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Override {
+    /// The dotted path, e.g. `light.0.power`.
+    pub path: String,
+    /// The value as TOML; text that is not a TOML value is taken as a string (`brdf=phong`).
+    pub value: Value,
+}
+
+impl Override {
+    /// An override of `path` with an already typed value.
+    pub fn new(path: impl Into<String>, value: impl Into<Value>) -> Self {
+        Self { path: path.into(), value: value.into() }
+    }
+}
+
+impl FromStr for Override {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        let (path, value_text) =
+            text.split_once('=').ok_or_else(|| format!("`{text}` is not KEY=VALUE (e.g. image.width=1200)"))?;
+        let path = path.trim();
+        if path.is_empty() || path.split('.').any(str::is_empty) {
+            return Err(format!("`{path}` is not a dotted key path (e.g. material.grey.sigma)"));
+        }
+        let value_text = value_text.trim();
+        #[derive(Deserialize)]
+        struct Wrapper {
+            v: Value,
+        }
+        let value = match toml::from_str::<Wrapper>(&format!("v = {value_text}")) {
+            Ok(wrapper) => wrapper.v,
+            Err(_) => Value::String(value_text.to_string()),
+        };
+        Ok(Self { path: path.to_string(), value })
+    }
+}
+
+impl fmt::Display for Override {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "--set {}={}", self.path, self.value)
+    }
+}
+
+/// Top-level tables whose every key has a default, so an override may create them.
+const OPTIONAL_TABLES: [&str; 2] = ["image", "camera"];
+
+/// Applies each override to the parsed table in turn and deserializes the result.
+///
+/// Each override is checked on its own, so an error names the one that broke the scene.
+pub(super) fn apply(table: &mut Table, overrides: &[Override]) -> Result<SceneFile, String> {
+    let mut scene = None;
+    for item in overrides {
+        set(table, item).map_err(|e| format!("{item}: {e}"))?;
+        let parsed = SceneFile::deserialize(Value::Table(table.clone()))
+            .map_err(|e| format!("{item}: {}", e.message().trim_end()))?;
+        scene = Some(parsed);
+    }
+    scene.ok_or_else(|| "no override to apply".to_string())
+}
+
+/// Writes one value at its dotted path; every step but the last must already exist.
+fn set(table: &mut Table, item: &Override) -> Result<(), String> {
+    let segments: Vec<&str> = item.path.split('.').collect();
+    let (last, parents) = segments.split_last().ok_or("empty key path")?;
+    let mut current = table;
+    let mut walked = String::new();
+    let mut iter = parents.iter().peekable();
+    while let Some(&segment) = iter.next() {
+        let here = if walked.is_empty() { segment.to_string() } else { format!("{walked}.{segment}") };
+        if walked.is_empty() && OPTIONAL_TABLES.contains(&segment) {
+            // [image] and [camera] may be left out of a file entirely; their keys have defaults.
+            current.entry(segment).or_insert_with(|| Value::Table(Table::new()));
+        }
+        let value = current.get_mut(segment).ok_or_else(|| format!("unknown key path: the scene has no `{here}`"))?;
+        current = match value {
+            Value::Table(child) => child,
+            Value::Array(array) => {
+                let index_text = iter.next().ok_or_else(|| format!("`{here}` is a list: add an index, e.g. {here}.0"))?;
+                let count = array.len();
+                let index: usize = index_text
+                    .parse()
+                    .map_err(|_| format!("`{index_text}` is not an index into `{here}` (the scene has {count})"))?;
+                match array.get_mut(index) {
+                    Some(Value::Table(child)) => child,
+                    Some(_) => return Err(format!("`{here}.{index}` is not a table")),
+                    None => return Err(format!("there is no `{here}.{index}`: the scene has {count} {segment}(s)")),
+                }
+            }
+            _ => return Err(format!("`{here}` is a value, not a table: it has no key `{}`", item.path)),
+        };
+        walked = here;
+    }
+    current.insert((*last).to_string(), item.value.clone());
+    Ok(())
+}

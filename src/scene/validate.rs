@@ -1,0 +1,287 @@
+//! Turns the file's structures into a `Scene`: defaults, ranges and cross-references, each error naming
+//! the key (as a `--set` path) and its value.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use glam::Vec3;
+
+use super::file::{CameraSection, ImageSection, LightSection, MaterialSection, ObjectSection, Rgb, SceneFile};
+use super::{Camera, Encoding, ImageSettings, Object, PointLight, Scene, Shape, Tonemap, BUNNY_PATH};
+use crate::brdf::{Brdf, DiffuseModel};
+
+type Check<T> = Result<T, String>;
+
+/// Validates a deserialized scene file read from `path`.
+pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
+    let image = image(&raw.image)?;
+    let camera = camera(&raw.camera)?;
+    let lights = raw.lights.iter().enumerate().map(|(i, l)| light(i, l)).collect::<Check<Vec<_>>>()?;
+    let materials = raw
+        .materials
+        .iter()
+        .map(|(name, m)| Ok((name.clone(), material(name, m)?)))
+        .collect::<Check<BTreeMap<_, _>>>()?;
+    let objects = raw
+        .objects
+        .iter()
+        .enumerate()
+        .map(|(i, o)| object(i, o, &materials, path))
+        .collect::<Check<Vec<_>>>()?;
+    Ok(Scene { source: path.to_path_buf(), image, camera, lights, objects })
+}
+
+fn image(s: &ImageSection) -> Check<ImageSettings> {
+    let size = |key: &str, value: i64| -> Check<u32> {
+        u32::try_from(value)
+            .ok()
+            .filter(|&v| v >= 1)
+            .ok_or_else(|| format!("image.{key} = {value}: must be a whole number of pixels, at least 1"))
+    };
+    let tonemap = match s.tonemap.as_str() {
+        "clamp" => Tonemap::Clamp,
+        "reinhard" => Tonemap::Reinhard,
+        "aces" => Tonemap::Aces,
+        other => return Err(format!("image.tonemap = {other:?}: unknown tonemap (expected \"clamp\", \"reinhard\" or \"aces\")")),
+    };
+    let encoding = match s.encoding.as_str() {
+        "linear" => Encoding::Linear,
+        "srgb" => Encoding::Srgb,
+        other => return Err(format!("image.encoding = {other:?}: unknown encoding (expected \"linear\" or \"srgb\")")),
+    };
+    let samples = u32::try_from(s.samples)
+        .ok()
+        .filter(|v| v.is_power_of_two())
+        .ok_or_else(|| format!("image.samples = {}: must be a power of two such as 1 or 4", s.samples))?;
+    Ok(ImageSettings {
+        width: size("width", s.width)?,
+        height: size("height", s.height)?,
+        samples,
+        background: non_negative("image.background", s.background)?,
+        tonemap,
+        exposure: at_least("image.exposure", s.exposure, 0.0)?,
+        encoding,
+    })
+}
+
+fn camera(s: &CameraSection) -> Check<Camera> {
+    let position = finite("camera.position", s.position)?;
+    let look_at = finite("camera.look_at", s.look_at)?;
+    let up = nonzero("camera.up", s.up)?;
+    if position == look_at {
+        return Err(format!("camera.look_at = {:?}: equal to camera.position, so the camera looks nowhere", s.look_at));
+    }
+    if (look_at - position).cross(up).length_squared() <= 1e-12 * (look_at - position).length_squared() * up.length_squared() {
+        return Err(format!("camera.up = {:?}: parallel to the view direction, so the image has no defined up", s.up));
+    }
+    if !(s.fov_y > 0.0 && s.fov_y < 180.0) {
+        return Err(format!("camera.fov_y = {}: must be between 0 and 180 degrees (exclusive)", s.fov_y));
+    }
+    Ok(Camera { position, look_at, up, fov_y: s.fov_y })
+}
+
+fn light(index: usize, s: &LightSection) -> Check<PointLight> {
+    let key = |name: &str| format!("light.{index}.{name}");
+    if s.kind != "point" {
+        return Err(format!("{} = {:?}: unknown light type (expected \"point\")", key("type"), s.kind));
+    }
+    Ok(PointLight {
+        position: finite(&key("position"), s.position)?,
+        color: non_negative(&key("color"), s.color)?,
+        power: at_least(&key("power"), s.power, 0.0)?,
+        shadows: s.shadows,
+    })
+}
+
+/// The BRDF names, and the parameters each one takes.
+const BRDF_PARAMETERS: [(&str, &[&str]); 5] = [
+    ("lambert", &["kd"]),
+    ("oren-nayar", &["kd", "sigma"]),
+    ("phong", &["kd", "ks", "shininess"]),
+    ("blinn-phong", &["kd", "ks", "shininess"]),
+    ("cook-torrance", &["kd", "f0", "roughness", "metalness", "diffuse"]),
+];
+
+fn material(name: &str, s: &MaterialSection) -> Check<Brdf> {
+    let key = |param: &str| format!("material.{name}.{param}");
+    let Some(&(_, accepted)) = BRDF_PARAMETERS.iter().find(|(brdf, _)| *brdf == s.brdf) else {
+        let names: Vec<_> = BRDF_PARAMETERS.iter().map(|(brdf, _)| format!("\"{brdf}\"")).collect();
+        return Err(format!("{} = {:?}: unknown brdf (expected one of {})", key("brdf"), s.brdf, names.join(", ")));
+    };
+    let present = [
+        ("kd", s.kd.is_some()),
+        ("ks", s.ks.is_some()),
+        ("f0", s.f0.is_some()),
+        ("shininess", s.shininess.is_some()),
+        ("sigma", s.sigma.is_some()),
+        ("roughness", s.roughness.is_some()),
+        ("metalness", s.metalness.is_some()),
+        ("diffuse", s.diffuse.is_some()),
+    ];
+    if let Some((param, _)) = present.iter().find(|(param, set)| *set && !accepted.contains(param)) {
+        return Err(format!(
+            "{}: not a parameter of brdf {:?} (it takes {})",
+            key(param),
+            s.brdf,
+            accepted.join(", ")
+        ));
+    }
+    let required = |param: &str, value: Option<f32>| -> Check<f32> {
+        value.ok_or_else(|| format!("{}: missing, and brdf {:?} needs it", key(param), s.brdf))
+    };
+    let reflectance = |param: &str, value: Option<Rgb>| -> Check<Vec3> {
+        let rgb = value.ok_or_else(|| format!("{}: missing, and brdf {:?} needs it", key(param), s.brdf))?;
+        unit_interval(&key(param), rgb)
+    };
+    let kd = reflectance("kd", s.kd)?;
+    Ok(match s.brdf.as_str() {
+        "lambert" => Brdf::Lambert { kd },
+        "oren-nayar" => Brdf::OrenNayar { kd, sigma: at_least(&key("sigma"), required("sigma", s.sigma)?, 0.0)? },
+        "phong" | "blinn-phong" => {
+            let ks = reflectance("ks", s.ks)?;
+            let shininess = at_least(&key("shininess"), required("shininess", s.shininess)?, 0.0)?;
+            if s.brdf == "phong" {
+                Brdf::Phong { kd, ks, shininess }
+            } else {
+                Brdf::BlinnPhong { kd, ks, shininess }
+            }
+        }
+        _ => {
+            let f0 = reflectance("f0", s.f0)?;
+            let roughness = required("roughness", s.roughness)?;
+            if !(roughness > 0.0 && roughness <= 1.0) {
+                return Err(format!("{} = {roughness}: must be in (0, 1]", key("roughness")));
+            }
+            let metalness = s.metalness.unwrap_or(0.0);
+            if !(0.0..=1.0).contains(&metalness) {
+                return Err(format!("{} = {metalness}: must be in [0, 1]", key("metalness")));
+            }
+            let diffuse = match s.diffuse.as_deref().unwrap_or("oren-nayar") {
+                "oren-nayar" => DiffuseModel::OrenNayar,
+                "lambert" => DiffuseModel::Lambert,
+                other => {
+                    return Err(format!(
+                        "{} = {other:?}: unknown diffuse model (expected \"oren-nayar\" or \"lambert\")",
+                        key("diffuse")
+                    ))
+                }
+            };
+            Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse }
+        }
+    })
+}
+
+/// The keys each shape takes besides `shape` and `material`.
+const SHAPE_KEYS: [(&str, &[&str]); 3] = [
+    ("sphere", &["center", "radius"]),
+    ("plane", &["point", "normal"]),
+    ("mesh", &["path", "scale", "rotate", "translate"]),
+];
+
+fn object(index: usize, s: &ObjectSection, materials: &BTreeMap<String, Brdf>, scene_path: &Path) -> Check<Object> {
+    let key = |name: &str| format!("object.{index}.{name}");
+    let Some(&(_, accepted)) = SHAPE_KEYS.iter().find(|(shape, _)| *shape == s.shape) else {
+        return Err(format!("{} = {:?}: unknown shape (expected \"sphere\", \"plane\" or \"mesh\")", key("shape"), s.shape));
+    };
+    let present = [
+        ("center", s.center.is_some()),
+        ("radius", s.radius.is_some()),
+        ("point", s.point.is_some()),
+        ("normal", s.normal.is_some()),
+        ("path", s.path.is_some()),
+        ("scale", s.scale.is_some()),
+        ("rotate", s.rotate.is_some()),
+        ("translate", s.translate.is_some()),
+    ];
+    if let Some((name, _)) = present.iter().find(|(name, set)| *set && !accepted.contains(name)) {
+        return Err(format!("{}: not a key of a {} (it takes {})", key(name), s.shape, accepted.join(", ")));
+    }
+    let brdf = *materials.get(&s.material).ok_or_else(|| {
+        let defined: Vec<_> = materials.keys().map(String::as_str).collect();
+        let defined = if defined.is_empty() { "none".to_string() } else { defined.join(", ") };
+        format!("{} = {:?}: no [material.{}] is defined (defined: {defined})", key("material"), s.material, s.material)
+    })?;
+    let missing = |name: &str| format!("{}: missing, and a {} needs it", key(name), s.shape);
+    let shape = match s.shape.as_str() {
+        "sphere" => {
+            let center = finite(&key("center"), s.center.ok_or_else(|| missing("center"))?)?;
+            let radius = s.radius.ok_or_else(|| missing("radius"))?;
+            positive(&key("radius"), radius)?;
+            Shape::Sphere { center, radius }
+        }
+        "plane" => {
+            let point = finite(&key("point"), s.point.ok_or_else(|| missing("point"))?)?;
+            let normal = nonzero(&key("normal"), s.normal.ok_or_else(|| missing("normal"))?)?;
+            Shape::Plane { point, normal: normal.normalize() }
+        }
+        _ => {
+            let path = s.path.as_deref().ok_or_else(|| missing("path"))?;
+            let scale = s.scale.unwrap_or(1.0);
+            positive(&key("scale"), scale)?;
+            Shape::Mesh {
+                path: resolve_mesh_path(path, scene_path),
+                scale,
+                rotate: finite(&key("rotate"), s.rotate.unwrap_or([0.0; 3]))?,
+                translate: finite(&key("translate"), s.translate.unwrap_or([0.0; 3]))?,
+            }
+        }
+    };
+    Ok(Object { shape, material: s.material.clone(), brdf })
+}
+
+/// `"bunny"` is the installed Stanford bunny; any other path is relative to the scene file's folder.
+fn resolve_mesh_path(path: &str, scene_path: &Path) -> std::path::PathBuf {
+    if path == "bunny" {
+        return BUNNY_PATH.into();
+    }
+    scene_path.parent().unwrap_or(Path::new("")).join(path)
+}
+
+fn finite(key: &str, v: [f32; 3]) -> Check<Vec3> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(Vec3::from(v))
+    } else {
+        Err(format!("{key} = {v:?}: every component must be a finite number"))
+    }
+}
+
+fn nonzero(key: &str, v: [f32; 3]) -> Check<Vec3> {
+    let vector = finite(key, v)?;
+    if vector.length_squared() > 0.0 {
+        Ok(vector)
+    } else {
+        Err(format!("{key} = {v:?}: a direction of zero length"))
+    }
+}
+
+fn non_negative(key: &str, rgb: Rgb) -> Check<Vec3> {
+    if rgb.0.iter().all(|c| c.is_finite() && *c >= 0.0) {
+        Ok(Vec3::from(rgb.0))
+    } else {
+        Err(format!("{key} = {:?}: every component must be a finite number >= 0", rgb.0))
+    }
+}
+
+fn unit_interval(key: &str, rgb: Rgb) -> Check<Vec3> {
+    if rgb.0.iter().all(|c| (0.0..=1.0).contains(c)) {
+        Ok(Vec3::from(rgb.0))
+    } else {
+        Err(format!("{key} = {:?}: every component must be in [0, 1]", rgb.0))
+    }
+}
+
+fn at_least(key: &str, value: f32, min: f32) -> Check<f32> {
+    if value.is_finite() && value >= min {
+        Ok(value)
+    } else {
+        Err(format!("{key} = {value}: must be a finite number >= {min}"))
+    }
+}
+
+fn positive(key: &str, value: f32) -> Check<f32> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(format!("{key} = {value}: must be greater than 0"))
+    }
+}

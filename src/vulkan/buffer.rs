@@ -1,0 +1,112 @@
+//! Buffers and their memory.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+
+use super::Device;
+use crate::error::{Error, Result};
+
+/// What a buffer is for and where its memory lives.
+#[derive(Clone, Copy, Debug)]
+pub struct BufferDesc {
+    pub size: vk::DeviceSize,
+    pub usage: vk::BufferUsageFlags,
+    pub location: MemoryLocation,
+}
+
+/// A buffer with its own allocation, freed in Drop.
+pub struct Buffer {
+    pub raw: vk::Buffer,
+    pub desc: BufferDesc,
+    allocation: Allocation,
+    device: Arc<Device>,
+}
+
+impl Device {
+    /// Creates a buffer and binds memory from the allocator.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` or `Error::Allocation` when the buffer or its memory cannot be had.
+    pub fn create_buffer(self: &Arc<Self>, desc: BufferDesc, name: &str) -> Result<Buffer> {
+        let info = vk::BufferCreateInfo::default().size(desc.size.max(1)).usage(desc.usage);
+        // SAFETY: the device is alive; the buffer is destroyed on every failure path below.
+        unsafe {
+            let raw = self.raw.create_buffer(&info, None)?;
+            let requirements = self.raw.get_buffer_memory_requirements(raw);
+            let allocation = self.allocator().allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: desc.location,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            });
+            let allocation = match allocation {
+                Ok(a) => a,
+                Err(e) => {
+                    self.raw.destroy_buffer(raw, None);
+                    return Err(e.into());
+                }
+            };
+            if let Err(e) = self.raw.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) {
+                self.raw.destroy_buffer(raw, None);
+                let _ = self.allocator().free(allocation);
+                return Err(e.into());
+            }
+            self.set_name(raw, name);
+            Ok(Buffer { raw, desc, allocation, device: self.clone() })
+        }
+    }
+
+    /// Creates a host-visible buffer holding `data`.
+    ///
+    /// # Errors
+    /// As [`Device::create_buffer`].
+    pub fn create_buffer_with_data<T: Copy>(
+        self: &Arc<Self>,
+        data: &[T],
+        usage: vk::BufferUsageFlags,
+        name: &str,
+    ) -> Result<Buffer> {
+        let size = std::mem::size_of_val(data) as vk::DeviceSize;
+        let mut buffer = self.create_buffer(BufferDesc { size, usage, location: MemoryLocation::CpuToGpu }, name)?;
+        buffer.write(data)?;
+        Ok(buffer)
+    }
+}
+
+impl Buffer {
+    /// Copies `data` to the start of a host-visible buffer.
+    ///
+    /// # Errors
+    /// `Error::Vulkan(ERROR_MEMORY_MAP_FAILED)` if the buffer is not host-visible or too small.
+    pub fn write<T: Copy>(&mut self, data: &[T]) -> Result<()> {
+        let bytes_len = std::mem::size_of_val(data);
+        let mapped = self.allocation.mapped_slice_mut().ok_or(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED))?;
+        if mapped.len() < bytes_len {
+            return Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED));
+        }
+        // SAFETY: T is Copy (plain data) and the destination holds at least bytes_len bytes.
+        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr().cast::<u8>(), mapped.as_mut_ptr(), bytes_len) };
+        Ok(())
+    }
+
+    /// The contents of a host-visible buffer.
+    ///
+    /// # Errors
+    /// `Error::Vulkan(ERROR_MEMORY_MAP_FAILED)` if the buffer is not host-visible.
+    pub fn bytes(&self) -> Result<&[u8]> {
+        let mapped = self.allocation.mapped_slice().ok_or(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED))?;
+        Ok(&mapped[..self.desc.size as usize])
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        // SAFETY: the owner guarantees the GPU no longer uses the buffer (renders wait for their fence).
+        unsafe { self.device.raw.destroy_buffer(self.raw, None) };
+        let _ = self.device.allocator().free(std::mem::take(&mut self.allocation));
+    }
+}

@@ -1,0 +1,258 @@
+//! Physical device choice, the logical device, its graphics queue and the memory allocator.
+
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use gpu_allocator::AllocationSizes;
+
+use super::Instance;
+use crate::error::{Error, Result};
+
+/// What `vk-render devices` shows of each physical device.
+#[derive(Clone, Debug)]
+pub struct DeviceInfo {
+    pub index: usize,
+    pub name: String,
+    pub kind: vk::PhysicalDeviceType,
+    /// Vulkan version the driver offers.
+    pub api_version: u32,
+    pub driver: String,
+}
+
+impl DeviceInfo {
+    /// "discrete GPU", "CPU" and so on.
+    pub fn kind_name(&self) -> &'static str {
+        match self.kind {
+            vk::PhysicalDeviceType::DISCRETE_GPU => "discrete GPU",
+            vk::PhysicalDeviceType::INTEGRATED_GPU => "integrated GPU",
+            vk::PhysicalDeviceType::VIRTUAL_GPU => "virtual GPU",
+            vk::PhysicalDeviceType::CPU => "CPU",
+            _ => "other",
+        }
+    }
+
+    /// Preference when no device is named: GPUs first, then lavapipe (CPU).
+    fn rank(&self) -> u32 {
+        match self.kind {
+            vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+            vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+            vk::PhysicalDeviceType::CPU => 3,
+            _ => 4,
+        }
+    }
+
+    /// "1.3.230".
+    pub fn api_version_string(&self) -> String {
+        let v = self.api_version;
+        format!("{}.{}.{}", vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v))
+    }
+}
+
+/// Lists the physical devices in the loader's order.
+///
+/// # Errors
+/// `Error::Vulkan` if the enumeration fails.
+pub fn list_devices(instance: &Instance) -> Result<Vec<(vk::PhysicalDevice, DeviceInfo)>> {
+    // SAFETY: the instance is alive.
+    let physical = unsafe { instance.raw.enumerate_physical_devices()? };
+    Ok(physical
+        .into_iter()
+        .enumerate()
+        .map(|(index, raw)| {
+            let mut driver = vk::PhysicalDeviceDriverProperties::default();
+            let mut properties2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+            // SAFETY: raw comes from this instance.
+            unsafe { instance.raw.get_physical_device_properties2(raw, &mut properties2) };
+            let p = properties2.properties;
+            let name = p.device_name_as_c_str().map_or_else(|_| "?".into(), |n| n.to_string_lossy().into_owned());
+            let driver = driver.driver_info_as_c_str().map_or_else(|_| String::new(), |n| n.to_string_lossy().into_owned());
+            (raw, DeviceInfo { index, name, kind: p.device_type, api_version: p.api_version, driver })
+        })
+        .collect())
+}
+
+/// The logical device with one graphics queue, its allocator and a command pool.
+///
+/// Every resource holds an `Arc<Device>`, so the device outlives them; it holds the instance the same way.
+pub struct Device {
+    pub raw: ash::Device,
+    pub physical: vk::PhysicalDevice,
+    pub info: DeviceInfo,
+    pub limits: vk::PhysicalDeviceLimits,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    allocator: ManuallyDrop<Mutex<Allocator>>,
+    command_pool: vk::CommandPool,
+    pub instance: Arc<Instance>,
+}
+
+impl Device {
+    /// Opens the device named by `selector` (an index from `vk-render devices`, or part of a name,
+    /// case-insensitive), or else the best one: a discrete or integrated GPU first, then lavapipe.
+    ///
+    /// # Errors
+    /// `Error::NoVulkan` when there is no device at all, `Error::Device` when the selector matches none or
+    /// the device lacks Vulkan 1.3 or a graphics queue.
+    pub fn new(instance: Arc<Instance>, selector: Option<&str>) -> Result<Arc<Device>> {
+        let devices = list_devices(&instance)?;
+        if devices.is_empty() {
+            return Err(Error::NoVulkan(format!("no Vulkan device was found. {}", super::instance::INSTALL_HINT)));
+        }
+        let (physical, info) = match selector {
+            Some(selector) => select(&devices, selector)?,
+            None => devices.iter().min_by_key(|(_, info)| info.rank()).cloned().expect("not empty"),
+        };
+        if info.api_version < vk::API_VERSION_1_3 {
+            return Err(Error::Device(format!(
+                "device {} ({}) offers Vulkan {}, and vk-render needs 1.3",
+                info.index,
+                info.name,
+                info.api_version_string()
+            )));
+        }
+        // SAFETY: physical comes from this instance.
+        let families = unsafe { instance.raw.get_physical_device_queue_family_properties(physical) };
+        let queue_family = families
+            .iter()
+            .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+            .ok_or_else(|| Error::Device(format!("device {} ({}) has no graphics queue", info.index, info.name)))?
+            as u32;
+        let priorities = [1.0];
+        let queue_info = [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
+        let mut features13 = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
+        let create_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info).push_next(&mut features13);
+        // SAFETY: create_info and what it points to outlive the call.
+        let raw = unsafe { instance.raw.create_device(physical, &create_info, None)? };
+        // SAFETY: the family was created with one queue.
+        let queue = unsafe { raw.get_device_queue(queue_family, 0) };
+        // SAFETY: physical comes from this instance.
+        let limits = unsafe { instance.raw.get_physical_device_properties(physical) }.limits;
+
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: instance.raw.clone(),
+            device: raw.clone(),
+            physical_device: physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: AllocationSizes::default(),
+        });
+        let allocator = match allocator {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: nothing was created from the device yet.
+                unsafe { raw.destroy_device(None) };
+                return Err(e.into());
+            }
+        };
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(queue_family)
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT | vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: the device is alive. On failure the allocator drops before the device is destroyed.
+        let command_pool = match unsafe { raw.create_command_pool(&pool_info, None) } {
+            Ok(pool) => pool,
+            Err(e) => {
+                drop(allocator);
+                unsafe { raw.destroy_device(None) };
+                return Err(e.into());
+            }
+        };
+        log::info!("using Vulkan device {} ({}, {}) {}", info.index, info.name, info.kind_name(), info.driver);
+        Ok(Arc::new(Device {
+            raw,
+            physical,
+            info,
+            limits,
+            queue,
+            queue_family,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            command_pool,
+            instance,
+        }))
+    }
+
+    /// The memory allocator.
+    pub fn allocator(&self) -> MutexGuard<'_, Allocator> {
+        self.allocator.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+
+    /// Records one command buffer with `record`, submits it and waits for it to finish.
+    ///
+    /// # Errors
+    /// What `record` returns, or `Error::Vulkan` from recording, submission or the wait.
+    pub fn submit_and_wait(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
+        let alloc_info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: the pool belongs to this device; each step's handles are freed below on every path.
+        unsafe {
+            let cmd = self.raw.allocate_command_buffers(&alloc_info)?[0];
+            let fence = match self.raw.create_fence(&vk::FenceCreateInfo::default(), None) {
+                Ok(f) => f,
+                Err(e) => {
+                    self.raw.free_command_buffers(self.command_pool, &[cmd]);
+                    return Err(e.into());
+                }
+            };
+            let result = (|| {
+                let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+                self.raw.begin_command_buffer(cmd, &begin)?;
+                record(cmd)?;
+                self.raw.end_command_buffer(cmd)?;
+                let cmd_info = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
+                let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_info)];
+                self.raw.queue_submit2(self.queue, &submit, fence)?;
+                self.raw.wait_for_fences(&[fence], true, u64::MAX)?;
+                Ok(())
+            })();
+            if result.is_err() {
+                // A failed submission may leave work queued: finish it before freeing what it uses.
+                let _ = self.raw.device_wait_idle();
+            }
+            self.raw.destroy_fence(fence, None);
+            self.raw.free_command_buffers(self.command_pool, &[cmd]);
+            result
+        }
+    }
+
+    /// Gives a handle a name that validation messages and debuggers show.
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        if !self.instance.validating() {
+            return;
+        }
+        let Ok(name) = std::ffi::CString::new(name) else { return };
+        let loader = ash::ext::debug_utils::Device::new(&self.instance.raw, &self.raw);
+        let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
+        // SAFETY: the handle belongs to this device; naming is advisory, so a failure is ignored.
+        let _ = unsafe { loader.set_debug_utils_object_name(&info) };
+    }
+}
+
+/// Finds a device by index or by part of its name.
+fn select(devices: &[(vk::PhysicalDevice, DeviceInfo)], selector: &str) -> Result<(vk::PhysicalDevice, DeviceInfo)> {
+    let wanted = selector.to_lowercase();
+    let found = match selector.parse::<usize>() {
+        Ok(index) => devices.iter().find(|(_, info)| info.index == index),
+        Err(_) => devices.iter().find(|(_, info)| info.name.to_lowercase().contains(&wanted)),
+    };
+    found.cloned().ok_or_else(|| {
+        let names: Vec<_> = devices.iter().map(|(_, info)| format!("{}: {}", info.index, info.name)).collect();
+        Error::Device(format!("--device {selector:?} matches no Vulkan device (devices: {})", names.join("; ")))
+    })
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: all resources made from this device hold an Arc of it, so none is left. The allocator
+        // frees its memory blocks on drop, which must happen before the device is destroyed.
+        unsafe {
+            let _ = self.raw.device_wait_idle();
+            self.raw.destroy_command_pool(self.command_pool, None);
+            ManuallyDrop::drop(&mut self.allocator);
+            self.raw.destroy_device(None);
+        }
+    }
+}

@@ -1,0 +1,20 @@
+//! Thin owners of Vulkan objects: one module per concept, each object destroyed in its Drop.
+//!
+//! Ownership: every object holds an `Arc<Device>`, the device holds an `Arc<Instance>`, so teardown
+//! runs objects, then the device (wait idle, allocator, device), then the instance (messenger, instance).
+
+mod buffer;
+mod descriptor;
+mod device;
+mod image;
+mod instance;
+mod pipeline;
+mod shader;
+
+pub use buffer::{Buffer, BufferDesc};
+pub use descriptor::DescriptorPool;
+pub use device::{list_devices, Device, DeviceInfo};
+pub use image::{subresource_range, Image, ImageDesc};
+pub use instance::{Instance, ValidationLog, INSTALL_HINT};
+pub use pipeline::{GraphicsPipelineDesc, Pipeline, PipelineLayout};
+pub use shader::{ShaderCompiler, ShaderModule, ShaderSources};

@@ -1,0 +1,144 @@
+//! Pipeline layouts (with their descriptor set layouts) and graphics pipelines.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::{Device, ShaderModule};
+use crate::error::Result;
+
+/// A pipeline layout and the descriptor set layouts it was made from, destroyed together in Drop.
+pub struct PipelineLayout {
+    pub raw: vk::PipelineLayout,
+    pub set_layouts: Vec<vk::DescriptorSetLayout>,
+    device: Arc<Device>,
+}
+
+/// A pipeline, destroyed in Drop; it keeps its layout alive.
+pub struct Pipeline {
+    pub raw: vk::Pipeline,
+    pub layout: Arc<PipelineLayout>,
+    device: Arc<Device>,
+}
+
+/// What a graphics pipeline draws with and into (dynamic rendering, dynamic viewport and scissor).
+pub struct GraphicsPipelineDesc<'a> {
+    pub vertex: &'a ShaderModule,
+    pub fragment: &'a ShaderModule,
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    pub color_formats: &'a [vk::Format],
+    pub depth_format: vk::Format,
+    pub depth_compare: vk::CompareOp,
+    pub samples: vk::SampleCountFlags,
+    pub layout: &'a Arc<PipelineLayout>,
+}
+
+impl Device {
+    /// Creates one descriptor set layout per entry of `sets`, and a layout with them and the push constants.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` if the driver refuses a layout.
+    pub fn create_pipeline_layout(
+        self: &Arc<Self>,
+        sets: &[&[vk::DescriptorSetLayoutBinding]],
+        push_constants: &[vk::PushConstantRange],
+        name: &str,
+    ) -> Result<Arc<PipelineLayout>> {
+        // Built field by field so that Drop frees whatever was made if a later step fails.
+        let mut layout = PipelineLayout { raw: vk::PipelineLayout::null(), set_layouts: Vec::new(), device: self.clone() };
+        for bindings in sets {
+            let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
+            // SAFETY: the device is alive.
+            layout.set_layouts.push(unsafe { self.raw.create_descriptor_set_layout(&info, None)? });
+        }
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&layout.set_layouts)
+            .push_constant_ranges(push_constants);
+        // SAFETY: the set layouts are alive.
+        layout.raw = unsafe { self.raw.create_pipeline_layout(&info, None)? };
+        self.set_name(layout.raw, name);
+        Ok(Arc::new(layout))
+    }
+
+    /// Creates a graphics pipeline for dynamic rendering, triangle lists, no culling, opaque output.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` if the driver refuses the pipeline.
+    pub fn create_graphics_pipeline(self: &Arc<Self>, desc: &GraphicsPipelineDesc, name: &str) -> Result<Pipeline> {
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(desc.vertex.raw)
+                .name(c"main"),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(desc.fragment.raw)
+                .name(c"main"),
+        ];
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(desc.vertex_bindings)
+            .vertex_attribute_descriptions(desc.vertex_attributes);
+        let input_assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        // No culling: planes are seen from both sides, and closed meshes lose nothing to the depth test.
+        let rasterization = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(true)
+            .depth_compare_op(desc.depth_compare);
+        let attachments: Vec<_> = desc
+            .color_formats
+            .iter()
+            .map(|_| vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA))
+            .collect();
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(desc.color_formats)
+            .depth_attachment_format(desc.depth_format);
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&rasterization)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(desc.layout.raw)
+            .push_next(&mut rendering);
+        // SAFETY: every structure the info points to lives until the call returns.
+        let raw = unsafe { self.raw.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+            .map_err(|(_, e)| e)?[0];
+        self.set_name(raw, name);
+        Ok(Pipeline { raw, layout: desc.layout.clone(), device: self.clone() })
+    }
+}
+
+impl Drop for PipelineLayout {
+    fn drop(&mut self) {
+        // SAFETY: no pipeline made with this layout is left (each holds an Arc of it).
+        unsafe {
+            self.device.raw.destroy_pipeline_layout(self.raw, None);
+            for &set_layout in &self.set_layouts {
+                self.device.raw.destroy_descriptor_set_layout(set_layout, None);
+            }
+        }
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // SAFETY: renders wait for their work before returning, so the GPU no longer uses the pipeline.
+        unsafe { self.device.raw.destroy_pipeline(self.raw, None) };
+    }
+}

@@ -1,0 +1,132 @@
+//! GLSL to SPIR-V with shaderc, and shader modules.
+//!
+//! The sources of shaders/ are embedded in the binary at build time; `#include "common/math.glsl"` is
+//! resolved against the shaders/ root (or the including file's folder first).
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::Device;
+use crate::error::{Error, Result};
+
+/// Every file under shaders/, by path relative to it.
+const EMBEDDED: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
+
+/// The GLSL sources a compiler reads: those embedded at build time, of which any may be replaced.
+#[derive(Clone, Debug)]
+pub struct ShaderSources {
+    files: BTreeMap<String, String>,
+}
+
+impl Default for ShaderSources {
+    fn default() -> Self {
+        Self { files: EMBEDDED.iter().map(|(path, text)| ((*path).to_string(), (*text).to_string())).collect() }
+    }
+}
+
+impl ShaderSources {
+    /// Replaces (or adds) one file, e.g. a deliberately broken BRDF in a test.
+    pub fn with_file(mut self, path: &str, text: impl Into<String>) -> Self {
+        self.files.insert(path.to_string(), text.into());
+        self
+    }
+
+    /// The paths of every file, relative to shaders/.
+    pub fn paths(&self) -> impl Iterator<Item = &str> {
+        self.files.keys().map(String::as_str)
+    }
+
+    fn get(&self, path: &str) -> Option<&str> {
+        self.files.get(path).map(String::as_str)
+    }
+}
+
+/// Compiles GLSL entry files of shaders/ to SPIR-V.
+pub struct ShaderCompiler {
+    compiler: shaderc::Compiler,
+    sources: Arc<ShaderSources>,
+}
+
+impl ShaderCompiler {
+    /// A compiler reading `sources`.
+    ///
+    /// # Errors
+    /// `Error::Shader` if shaderc cannot start.
+    pub fn new(sources: ShaderSources) -> Result<Self> {
+        let compiler = shaderc::Compiler::new()
+            .map_err(|e| Error::Shader { path: "(shaderc)".into(), log: format!("shaderc could not start: {e}") })?;
+        Ok(Self { compiler, sources: Arc::new(sources) })
+    }
+
+    /// Compiles one entry file (its stage from the extension: .vert, .frag, .comp).
+    ///
+    /// # Errors
+    /// `Error::Shader` naming the file, with shaderc's log (file:line: error: ...).
+    pub fn compile(&self, path: &str) -> Result<Vec<u32>> {
+        let error = |log: String| Error::Shader { path: path.to_string(), log };
+        let stage = match path.rsplit('.').next() {
+            Some("vert") => shaderc::ShaderKind::Vertex,
+            Some("frag") => shaderc::ShaderKind::Fragment,
+            Some("comp") => shaderc::ShaderKind::Compute,
+            _ => return Err(error("unknown shader stage (expected .vert, .frag or .comp)".into())),
+        };
+        let text = self.sources.get(path).ok_or_else(|| error("no such file under shaders/".into()))?;
+        let mut options =
+            shaderc::CompileOptions::new().map_err(|e| error(format!("shaderc options could not be made: {e}")))?;
+        options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
+        options.set_generate_debug_info();
+        let sources = self.sources.clone();
+        options.set_include_callback(move |requested, _kind, requesting, _depth| {
+            let beside = match requesting.rsplit_once('/') {
+                Some((folder, _)) => format!("{folder}/{requested}"),
+                None => requested.to_string(),
+            };
+            [beside, requested.to_string()]
+                .into_iter()
+                .find_map(|candidate| {
+                    sources.get(&candidate).map(|content| shaderc::ResolvedInclude {
+                        resolved_name: candidate.clone(),
+                        content: content.to_string(),
+                    })
+                })
+                .ok_or_else(|| format!("cannot find {requested} under shaders/"))
+        });
+        let artifact = self
+            .compiler
+            .compile_into_spirv(text, stage, path, "main", Some(&options))
+            .map_err(|e| error(e.to_string()))?;
+        if artifact.get_num_warnings() > 0 {
+            log::warn!("{path}: {}", artifact.get_warning_messages());
+        }
+        Ok(artifact.as_binary().to_vec())
+    }
+}
+
+/// A shader module, destroyed in Drop.
+pub struct ShaderModule {
+    pub raw: vk::ShaderModule,
+    device: Arc<Device>,
+}
+
+impl Device {
+    /// Creates a shader module from SPIR-V words.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` if the driver refuses the module.
+    pub fn create_shader_module(self: &Arc<Self>, spirv: &[u32], name: &str) -> Result<ShaderModule> {
+        let info = vk::ShaderModuleCreateInfo::default().code(spirv);
+        // SAFETY: the device is alive and the code is SPIR-V from shaderc.
+        let raw = unsafe { self.raw.create_shader_module(&info, None)? };
+        self.set_name(raw, name);
+        Ok(ShaderModule { raw, device: self.clone() })
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        // SAFETY: modules are only needed while pipelines are created.
+        unsafe { self.device.raw.destroy_shader_module(self.raw, None) };
+    }
+}
