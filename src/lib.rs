@@ -6,9 +6,11 @@
 //! Rust mirror of the GLSL reflectance models in `shaders/brdf/`.
 
 pub mod brdf;
+pub mod compare;
 pub mod error;
 pub mod mesh;
 pub mod output;
+pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod vulkan;

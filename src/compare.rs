@@ -1,0 +1,127 @@
+//! Image comparison for tests: 8-bit differences away from silhouettes, summarised, with pictures on failure.
+
+use std::path::{Path, PathBuf};
+
+use image::RgbImage;
+
+/// Differences between a candidate and a reference image, in 8-bit levels, over the compared pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Comparison {
+    /// Pixels compared (those not excluded).
+    pub compared: usize,
+    /// Mean absolute difference over every channel.
+    pub mean_abs: f64,
+    /// 99th percentile of the per-pixel largest channel difference.
+    pub p99: u8,
+    /// Largest channel difference.
+    pub max: u8,
+    /// Fraction of pixels with a channel more than 3 levels off.
+    pub fraction_over_3: f64,
+}
+
+impl std::fmt::Display for Comparison {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} px compared: mean abs {:.3}, p99 {}, max {}, {:.3}% over 3 levels",
+            self.compared,
+            self.mean_abs,
+            self.p99,
+            self.max,
+            100.0 * self.fraction_over_3
+        )
+    }
+}
+
+/// Marks the pixels within `radius` pixels (Chebyshev distance) of a change of object id, where a
+/// rasterizer's coverage and a ray tracer's centre sample legitimately disagree.
+pub fn silhouette_band(object_ids: &[Option<usize>], width: u32, height: u32, radius: u32) -> Vec<bool> {
+    let (w, h, r) = (width as i64, height as i64, radius as i64);
+    let id = |x: i64, y: i64| object_ids[(y * w + x) as usize];
+    let mut edge = vec![false; object_ids.len()];
+    for y in 0..h {
+        for x in 0..w {
+            let here = id(x, y);
+            let differs = (x + 1 < w && id(x + 1, y) != here) || (y + 1 < h && id(x, y + 1) != here);
+            if differs {
+                edge[(y * w + x) as usize] = true;
+            }
+        }
+    }
+    let mut band = vec![false; object_ids.len()];
+    for y in 0..h {
+        for x in 0..w {
+            if !edge[(y * w + x) as usize] {
+                continue;
+            }
+            for by in (y - r).max(0)..=(y + r + 1).min(h - 1) {
+                for bx in (x - r).max(0)..=(x + r + 1).min(w - 1) {
+                    band[(by * w + bx) as usize] = true;
+                }
+            }
+        }
+    }
+    band
+}
+
+/// Compares two images of the same size, leaving out the pixels where `excluded` is true.
+pub fn compare(candidate: &RgbImage, reference: &RgbImage, excluded: &[bool]) -> Comparison {
+    assert_eq!(candidate.dimensions(), reference.dimensions(), "images of different sizes");
+    let mut worst: Vec<u8> = Vec::new();
+    let mut total = 0u64;
+    for ((a, b), &skip) in candidate.pixels().zip(reference.pixels()).zip(excluded) {
+        if skip {
+            continue;
+        }
+        let diffs = [0, 1, 2].map(|c| a.0[c].abs_diff(b.0[c]));
+        total += diffs.iter().map(|&d| u64::from(d)).sum::<u64>();
+        worst.push(*diffs.iter().max().unwrap_or(&0));
+    }
+    let compared = worst.len();
+    let over_3 = worst.iter().filter(|&&d| d > 3).count();
+    worst.sort_unstable();
+    let p99 = if compared == 0 { 0 } else { worst[((compared - 1) as f64 * 0.99).round() as usize] };
+    Comparison {
+        compared,
+        mean_abs: if compared == 0 { 0.0 } else { total as f64 / (3 * compared) as f64 },
+        p99,
+        max: worst.last().copied().unwrap_or(0),
+        fraction_over_3: if compared == 0 { 0.0 } else { over_3 as f64 / compared as f64 },
+    }
+}
+
+/// Writes `NAME-candidate.png`, `NAME-reference.png` and `NAME-diff.png` (false colour: black equal, blue 1
+/// level, green 2-3, yellow 4-15, red more; excluded pixels dark grey) under `folder`, and returns their paths.
+///
+/// # Errors
+/// The I/O error if the folder or a file cannot be written.
+pub fn write_failure_images(
+    folder: &Path,
+    name: &str,
+    candidate: &RgbImage,
+    reference: &RgbImage,
+    excluded: &[bool],
+) -> std::io::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(folder)?;
+    let diff = RgbImage::from_fn(candidate.width(), candidate.height(), |x, y| {
+        let i = (y * candidate.width() + x) as usize;
+        if excluded[i] {
+            return image::Rgb([40, 40, 40]);
+        }
+        let (a, b) = (candidate.get_pixel(x, y), reference.get_pixel(x, y));
+        let d = (0..3).map(|c| a.0[c].abs_diff(b.0[c])).max().unwrap_or(0);
+        image::Rgb(match d {
+            0 => [0, 0, 0],
+            1 => [0, 0, 255],
+            2..=3 => [0, 200, 0],
+            4..=15 => [255, 255, 0],
+            _ => [255, 0, 0],
+        })
+    });
+    let paths: Vec<PathBuf> =
+        ["candidate", "reference", "diff"].iter().map(|kind| folder.join(format!("{name}-{kind}.png"))).collect();
+    for (path, picture) in paths.iter().zip([candidate, reference, &diff]) {
+        picture.save(path).map_err(std::io::Error::other)?;
+    }
+    Ok(paths)
+}

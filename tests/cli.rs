@@ -1,0 +1,294 @@
+//! The `vk-render` command as a user runs it: success, and every kind of bad input, each with a clear
+//! message naming the file, the key and the value, a non-zero exit status and no output file.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::{root, temp_dir};
+
+fn vk_render(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vk-render")).arg("--validate").args(args).output().expect("run vk-render")
+}
+
+/// A scene file in `folder` made from Figure 1 with `edit` applied to its text.
+fn scene_file(folder: &Path, edit: impl Fn(&str) -> String) -> PathBuf {
+    let base = std::fs::read_to_string(root().join("assets/scenes/fig1-lambert.toml")).unwrap();
+    let text = edit(&base);
+    let path = folder.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Runs a render that must fail, and checks the exit status, that stderr holds every `needle` and that no
+/// output file (nor a partial one) was written.
+fn fails_with(scene: &Path, extra: &[&str], needles: &[&str]) -> String {
+    let folder = scene.parent().unwrap();
+    let out = folder.join("out.png");
+    let mut args = vec!["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    let output = vk_render(&args);
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    assert!(!output.status.success(), "exit status 0 for bad input; stderr: {stderr}");
+    assert_eq!(output.status.code(), Some(1), "a clean error exit, not a crash; stderr: {stderr}");
+    for needle in needles {
+        assert!(stderr.contains(needle), "stderr lacks {needle:?}:\n{stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let left: Vec<_> = std::fs::read_dir(folder).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert!(!out.exists(), "an output file was written: {left:?}");
+    assert!(left.iter().all(|n| !n.to_string_lossy().contains("partial")), "a partial file was left: {left:?}");
+    stderr
+}
+
+/// "line N" for the first line of the file that holds `needle`.
+fn line_of(path: &Path, needle: &str) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let index = text.lines().position(|l| l.contains(needle)).expect("needle in the file");
+    format!("line {}", index + 1)
+}
+
+fn edited(from: &'static str, to: &'static str) -> impl Fn(&str) -> String {
+    move |text: &str| {
+        assert!(text.contains(from), "Figure 1 no longer holds {from:?}");
+        text.replacen(from, to, 1)
+    }
+}
+
+#[test]
+fn renders_figure_1_to_png_and_exits_0() {
+    let folder = temp_dir();
+    let out = folder.path().join("fig1.png");
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let output = vk_render(&["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "300", "--height", "200"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let image = image::open(&out).unwrap().into_rgb8();
+    assert_eq!(image.dimensions(), (300, 200));
+    assert_eq!(image.get_pixel(150, 100).0, [152, 152, 152]);
+}
+
+#[test]
+fn lists_devices() {
+    let output = vk_render(&["devices"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("0: ") && stdout.contains('*'), "{stdout}");
+}
+
+#[test]
+fn an_unknown_device_is_an_error_that_lists_the_devices() {
+    let output = vk_render(&["--device", "no-such-gpu", "devices"]);
+    // `devices` lists whatever is there; rendering with a device that does not exist fails.
+    assert!(output.status.success());
+    let folder = temp_dir();
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let out = folder.path().join("o.png");
+    let output = vk_render(&["--device", "no-such-gpu", "render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no-such-gpu") && stderr.contains("0: "), "{stderr}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn missing_scene_file() {
+    let folder = temp_dir();
+    fails_with(&folder.path().join("nowhere.toml"), &[], &["nowhere.toml", "cannot read the scene file", "No such file"]);
+}
+
+#[test]
+fn toml_syntax_error_names_the_line() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("radius = 1.0", "radius = = 1.0"));
+    let line = line_of(&scene, "radius = = 1.0");
+    fails_with(&scene, &[], &["scene.toml", &line, "radius = = 1.0"]);
+}
+
+#[test]
+fn unknown_key_names_the_key_and_line() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("height = 400", "height = 400\nwidht = 3"));
+    let line = line_of(&scene, "widht = 3");
+    fails_with(&scene, &[], &["scene.toml", &line, "widht = 3", "unknown field `widht`"]);
+}
+
+#[test]
+fn wrong_type_names_the_key_and_value() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("power = 60.0", "power = \"bright\""));
+    fails_with(&scene, &[], &["scene.toml", "power = \"bright\"", "invalid type: string \"bright\""]);
+}
+
+#[test]
+fn undefined_material() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("material = \"grey\"", "material = \"gray\""));
+    fails_with(&scene, &[], &["scene.toml", "object.0.material = \"gray\"", "no [material.gray]", "grey, red"]);
+}
+
+#[test]
+fn unknown_brdf() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("brdf = \"lambert\"", "brdf = \"lambertian\""));
+    fails_with(&scene, &[], &["scene.toml", "material.grey.brdf = \"lambertian\"", "unknown brdf", "\"oren-nayar\""]);
+}
+
+#[test]
+fn a_parameter_of_another_brdf() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("kd = [0.5, 0.5, 0.5]", "kd = [0.5, 0.5, 0.5]\nsigma = 0.3"));
+    fails_with(&scene, &[], &["scene.toml", "material.grey.sigma", "not a parameter of brdf \"lambert\""]);
+}
+
+#[test]
+fn a_brdf_not_rendered_yet_is_refused_after_validation() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("brdf = \"lambert\"", "brdf = \"oren-nayar\"\nsigma = 0.3"));
+    fails_with(&scene, &[], &["scene.toml", "material.grey.brdf = \"oren-nayar\"", "not yet supported"]);
+}
+
+#[test]
+fn out_of_range_reflectance() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("kd = [0.5, 0.5, 0.5]", "kd = [0.5, 1.5, 0.5]"));
+    fails_with(&scene, &[], &["scene.toml", "material.grey.kd = [0.5, 1.5, 0.5]", "[0, 1]"]);
+}
+
+#[test]
+fn negative_radius() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("radius = 1.0", "radius = -1.0"));
+    fails_with(&scene, &[], &["scene.toml", "object.0.radius = -1", "greater than 0"]);
+}
+
+#[test]
+fn zero_length_normal() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("normal = [0.0, 1.0, 0.0]", "normal = [0.0, 0.0, 0.0]"));
+    fails_with(&scene, &[], &["scene.toml", "object.1.normal = [0.0, 0.0, 0.0]", "zero length"]);
+}
+
+#[test]
+fn zero_length_up() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("up = [0.0, 1.0, 0.0]", "up = [0, 0, 0]"));
+    fails_with(&scene, &[], &["scene.toml", "camera.up = [0.0, 0.0, 0.0]", "zero length"]);
+}
+
+#[test]
+fn look_at_equal_to_position() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("look_at = [0.0, 0.0, 1.0]", "look_at = [0.0, 0.0, 0.0]"));
+    fails_with(&scene, &[], &["scene.toml", "camera.look_at = [0.0, 0.0, 0.0]", "equal to camera.position"]);
+}
+
+#[test]
+fn zero_width() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("width = 600", "width = 0"));
+    fails_with(&scene, &[], &["scene.toml", "image.width = 0", "at least 1"]);
+}
+
+#[test]
+fn height_above_the_device_limit() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), |t| t.to_string());
+    fails_with(&scene, &["--height", "1000000"], &["scene.toml", "image.height = 1000000", "above the limit"]);
+}
+
+#[test]
+fn samples_the_device_does_not_support() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("samples = 4", "samples = 64"));
+    fails_with(&scene, &[], &["scene.toml", "image.samples = 64", "not supported by device", "it supports 1"]);
+}
+
+#[test]
+fn missing_obj() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"missing.obj\""));
+    fails_with(&scene, &[], &["scene.toml", "object.0.path", "missing.obj", "No such file"]);
+}
+
+#[test]
+fn malformed_obj() {
+    let folder = temp_dir();
+    std::fs::write(folder.path().join("broken.obj"), "v 0 0 0\nv 1 0 zero\nf 1 2 3\n").unwrap();
+    let scene = scene_file(folder.path(), edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"broken.obj\""));
+    fails_with(&scene, &[], &["scene.toml", "object.0.path", "broken.obj", "not a valid OBJ file"]);
+}
+
+#[test]
+fn obj_without_triangles() {
+    let folder = temp_dir();
+    std::fs::write(folder.path().join("empty.obj"), "# nothing here\nv 0 0 0\n").unwrap();
+    let scene = scene_file(folder.path(), edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"empty.obj\""));
+    fails_with(&scene, &[], &["scene.toml", "object.0.path", "empty.obj", "no triangles"]);
+}
+
+#[test]
+fn output_in_a_folder_that_does_not_exist() {
+    let folder = temp_dir();
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let out = folder.path().join("no/such/folder/fig1.png");
+    let output = vk_render(&["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("no/such/folder") && stderr.contains("does not exist"), "{stderr}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn unsupported_output_type() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), |t| t.to_string());
+    let out = folder.path().join("fig1.jpg");
+    let output = vk_render(&["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("fig1.jpg") && stderr.contains(".png or .exr"), "{stderr}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn unknown_set_path() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), |t| t.to_string());
+    fails_with(&scene, &["--set", "image.widht=3"], &["scene.toml", "--set image.widht=3", "unknown field `widht`"]);
+    fails_with(&scene, &["--set", "material.blue.kd=0.3"], &["--set material.blue.kd=0.3", "no `material.blue`"]);
+    fails_with(&scene, &["--set", "light.3.power=3"], &["--set light.3.power=3", "no `light.3`", "has 1 light"]);
+}
+
+#[test]
+fn set_overrides_a_value() {
+    let folder = temp_dir();
+    let out = folder.path().join("o.png");
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    // Half the power halves the centre's radiance: 0.2984 -> 76.
+    let output = vk_render(&[
+        "render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--set", "light.0.power=30", "--set", "image.width=300",
+        "--height=200",
+    ]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let image = image::open(&out).unwrap().into_rgb8();
+    assert_eq!(image.get_pixel(150, 100).0, [76, 76, 76]);
+}
+
+#[test]
+fn no_vulkan_driver_says_how_to_install_lavapipe() {
+    // With no driver manifest the loader finds no device: the error must say what to install.
+    let folder = temp_dir();
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let out = folder.path().join("o.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_vk-render"))
+        .args(["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .env("VK_ICD_FILENAMES", folder.path().join("none.json"))
+        .env("VK_DRIVER_FILES", folder.path().join("none.json"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers") && stderr.contains("lavapipe"), "{stderr}");
+    assert!(!out.exists());
+}

@@ -1,0 +1,70 @@
+//! Helpers shared by the integration tests: one validating renderer per test binary, scene loading, and
+//! comparison against the CPU reference with pictures written on failure.
+#![allow(dead_code)] // each test binary uses its own subset
+
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, OnceLock};
+
+use vk_render::compare::{compare, silhouette_band, write_failure_images, Comparison};
+use vk_render::{reference, HdrImage, Override, Renderer, RendererOptions, Scene};
+
+/// The repository's root.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// One renderer for the whole test binary, with the validation layer on: tests share the compiled shaders
+/// and pipelines, and the lock keeps the two cores for one render at a time.
+pub fn renderer() -> MutexGuard<'static, Renderer> {
+    static RENDERER: OnceLock<Mutex<Renderer>> = OnceLock::new();
+    RENDERER
+        .get_or_init(|| {
+            let options = RendererOptions { validate: true, ..Default::default() };
+            Mutex::new(Renderer::new(options).expect("a Vulkan device with the validation layer (run `make setup`)"))
+        })
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Renders a scene; the render fails on any validation message.
+pub fn render(scene: &Scene) -> HdrImage {
+    renderer().render(scene).expect("render with no validation message")
+}
+
+/// Loads a scene of assets/scenes/ with overrides.
+pub fn asset_scene(name: &str, overrides: &[&str]) -> Scene {
+    let overrides: Vec<Override> = overrides.iter().map(|o| o.parse().expect("KEY=VALUE")).collect();
+    Scene::load(&root().join("assets/scenes").join(name), &overrides).expect("valid scene")
+}
+
+/// Parses scene text as if it were the file `tests/<name>.toml`.
+pub fn scene_from_text(name: &str, text: &str) -> Scene {
+    Scene::parse(text, &root().join("tests").join(format!("{name}.toml")), &[]).expect("valid scene")
+}
+
+/// Renders on the GPU and with the CPU reference, and compares away from silhouettes (2 px band).
+/// On failure of `accept`, writes the images under target/test-output/ and panics with their paths.
+pub fn check_against_reference(name: &str, scene: &Scene, accept: impl Fn(&Comparison) -> bool) -> Comparison {
+    let gpu = render(scene).to_rgb8(&scene.image);
+    let reference = reference::render(scene).expect("the reference renders this scene");
+    let expected = reference.image.to_rgb8(&scene.image);
+    let band = silhouette_band(&reference.object_ids, scene.image.width, scene.image.height, 2);
+    let comparison = compare(&gpu, &expected, &band);
+    if !accept(&comparison) {
+        let folder = root().join("target/test-output");
+        let paths = write_failure_images(&folder, name, &gpu, &expected, &band).expect("write failure images");
+        let list: Vec<_> = paths.iter().map(|p| p.display().to_string()).collect();
+        panic!("{name}: GPU differs from the CPU reference: {comparison}\nsee {}", list.join(", "));
+    }
+    comparison
+}
+
+/// A path under a fresh temporary folder, removed when the returned guard drops.
+pub fn temp_dir() -> tempfile::TempDir {
+    tempfile::tempdir().expect("a temporary folder")
+}
+
+/// Whether a path exists.
+pub fn exists(path: &Path) -> bool {
+    path.exists()
+}
