@@ -97,9 +97,7 @@ fn devices(validate: bool) -> anyhow::Result<()> {
     if devices.is_empty() {
         anyhow::bail!("no Vulkan device was found. {}", vk_render::vulkan::INSTALL_HINT);
     }
-    let default = vk_render::vulkan::Device::new(std::sync::Arc::new(instance), None)
-        .map(|d| d.info.index)
-        .ok();
+    let default = vk_render::vulkan::Device::new(std::sync::Arc::new(instance), None).map(|d| d.info.index).ok();
     for (_, info) in &devices {
         let marker = if Some(info.index) == default { "*" } else { " " };
         println!(

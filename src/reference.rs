@@ -22,7 +22,9 @@ pub fn render(scene: &Scene) -> Result<ReferenceImage> {
     let unsupported = |message: String| Error::Scene { file: scene.source.clone(), message };
     for (index, object) in scene.objects.iter().enumerate() {
         if matches!(object.shape, Shape::Mesh { .. }) {
-            return Err(unsupported(format!("object.{index}.shape = \"mesh\": not supported by the CPU reference yet")));
+            return Err(unsupported(format!(
+                "object.{index}.shape = \"mesh\": not supported by the CPU reference yet"
+            )));
         }
         if !object.brdf.is_supported() {
             return Err(unsupported(format!(

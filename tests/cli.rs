@@ -61,7 +61,16 @@ fn renders_figure_1_to_png_and_exits_0() {
     let folder = temp_dir();
     let out = folder.path().join("fig1.png");
     let scene = root().join("assets/scenes/fig1-lambert.toml");
-    let output = vk_render(&["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "300", "--height", "200"]);
+    let output = vk_render(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "300",
+        "--height",
+        "200",
+    ]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let image = image::open(&out).unwrap().into_rgb8();
     assert_eq!(image.dimensions(), (300, 200));
@@ -84,7 +93,8 @@ fn an_unknown_device_is_an_error_that_lists_the_devices() {
     let folder = temp_dir();
     let scene = root().join("assets/scenes/fig1-lambert.toml");
     let out = folder.path().join("o.png");
-    let output = vk_render(&["--device", "no-such-gpu", "render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let output =
+        vk_render(&["--device", "no-such-gpu", "render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("no-such-gpu") && stderr.contains("0: "), "{stderr}");
@@ -94,7 +104,11 @@ fn an_unknown_device_is_an_error_that_lists_the_devices() {
 #[test]
 fn missing_scene_file() {
     let folder = temp_dir();
-    fails_with(&folder.path().join("nowhere.toml"), &[], &["nowhere.toml", "cannot read the scene file", "No such file"]);
+    fails_with(
+        &folder.path().join("nowhere.toml"),
+        &[],
+        &["nowhere.toml", "cannot read the scene file", "No such file"],
+    );
 }
 
 #[test]
@@ -207,7 +221,13 @@ fn samples_the_device_does_not_support() {
 #[test]
 fn missing_obj() {
     let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"missing.obj\""));
+    let scene = scene_file(
+        folder.path(),
+        edited(
+            "shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0",
+            "shape = \"mesh\"\npath = \"missing.obj\"",
+        ),
+    );
     fails_with(&scene, &[], &["scene.toml", "object.0.path", "missing.obj", "No such file"]);
 }
 
@@ -215,7 +235,10 @@ fn missing_obj() {
 fn malformed_obj() {
     let folder = temp_dir();
     std::fs::write(folder.path().join("broken.obj"), "v 0 0 0\nv 1 0 zero\nf 1 2 3\n").unwrap();
-    let scene = scene_file(folder.path(), edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"broken.obj\""));
+    let scene = scene_file(
+        folder.path(),
+        edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"broken.obj\""),
+    );
     fails_with(&scene, &[], &["scene.toml", "object.0.path", "broken.obj", "not a valid OBJ file"]);
 }
 
@@ -223,7 +246,10 @@ fn malformed_obj() {
 fn obj_without_triangles() {
     let folder = temp_dir();
     std::fs::write(folder.path().join("empty.obj"), "# nothing here\nv 0 0 0\n").unwrap();
-    let scene = scene_file(folder.path(), edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"empty.obj\""));
+    let scene = scene_file(
+        folder.path(),
+        edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"empty.obj\""),
+    );
     fails_with(&scene, &[], &["scene.toml", "object.0.path", "empty.obj", "no triangles"]);
 }
 
@@ -267,7 +293,14 @@ fn set_overrides_a_value() {
     let scene = root().join("assets/scenes/fig1-lambert.toml");
     // Half the power halves the centre's radiance: 0.2984 -> 76.
     let output = vk_render(&[
-        "render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--set", "light.0.power=30", "--set", "image.width=300",
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "light.0.power=30",
+        "--set",
+        "image.width=300",
         "--height=200",
     ]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));

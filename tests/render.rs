@@ -107,7 +107,11 @@ fn the_same_scene_gives_the_same_bytes() {
     let scene = asset_scene("fig1-lambert.toml", &[]);
     let first = render(&scene);
     let second = render(&scene);
-    assert!(first.pixels.iter().zip(&second.pixels).all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
+    assert!(first
+        .pixels
+        .iter()
+        .zip(&second.pixels)
+        .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
 }
 
 #[test]

@@ -133,10 +133,9 @@ pub fn load_obj(path: &Path) -> Result<Mesh, String> {
             smooth_normals(&positions, &m.indices)
         };
         debug_assert_eq!(normals.len(), count);
-        mesh.vertices.extend(positions.iter().zip(&normals).map(|(p, n)| Vertex {
-            position: p.extend(1.0).into(),
-            normal: (*n).into(),
-        }));
+        mesh.vertices.extend(
+            positions.iter().zip(&normals).map(|(p, n)| Vertex { position: p.extend(1.0).into(), normal: (*n).into() }),
+        );
         mesh.indices.extend(m.indices.iter().map(|i| first + i));
     }
     if mesh.indices.is_empty() {

@@ -212,7 +212,12 @@ impl Renderer {
             None
         };
         let depth = device.create_image(
-            attachment(DEPTH_FORMAT, samples, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT, vk::ImageAspectFlags::DEPTH),
+            attachment(
+                DEPTH_FORMAT,
+                samples,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageAspectFlags::DEPTH,
+            ),
             "depth",
         )?;
         let readback = device.create_buffer(
@@ -237,10 +242,7 @@ impl Renderer {
                     vk::ImageLayout::UNDEFINED,
                     vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
                     (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                    (
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
+                    (vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
                 ),
                 image_barrier(
                     &depth,
@@ -249,7 +251,8 @@ impl Renderer {
                     (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
                     (
                         vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
                     ),
                 ),
             ];
@@ -259,10 +262,7 @@ impl Renderer {
                     vk::ImageLayout::UNDEFINED,
                     vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
                     (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                    (
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
+                    (vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
                 ));
             }
             // SAFETY: every handle recorded here lives until submit_and_wait has waited for the work.
@@ -291,7 +291,9 @@ impl Renderer {
                     .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
                     .load_op(vk::AttachmentLoadOp::CLEAR)
                     .store_op(vk::AttachmentStoreOp::DONT_CARE)
-                    .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
+                    .clear_value(vk::ClearValue {
+                        depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 },
+                    });
                 let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width, height } };
                 let rendering = vk::RenderingInfo::default()
                     .render_area(area)
@@ -303,7 +305,14 @@ impl Renderer {
                 raw.cmd_set_viewport(
                     cmd,
                     0,
-                    &[vk::Viewport { x: 0.0, y: 0.0, width: width as f32, height: height as f32, min_depth: 0.0, max_depth: 1.0 }],
+                    &[vk::Viewport {
+                        x: 0.0,
+                        y: 0.0,
+                        width: width as f32,
+                        height: height as f32,
+                        min_depth: 0.0,
+                        max_depth: 1.0,
+                    }],
                 );
                 raw.cmd_set_scissor(cmd, 0, &[area]);
                 raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[set], &[]);
@@ -338,7 +347,13 @@ impl Renderer {
                         layer_count: 1,
                     })
                     .image_extent(vk::Extent3D { width, height, depth: 1 });
-                raw.cmd_copy_image_to_buffer(cmd, resolved.raw, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, readback.raw, &[region]);
+                raw.cmd_copy_image_to_buffer(
+                    cmd,
+                    resolved.raw,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    readback.raw,
+                    &[region],
+                );
                 let to_host = [vk::BufferMemoryBarrier2::default()
                     .src_stage_mask(vk::PipelineStageFlags2::COPY)
                     .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
@@ -381,9 +396,11 @@ fn upload_meshes(device: &Arc<Device>, placed: &[PlacedMesh]) -> Result<HashMap<
         if meshes.contains_key(&mesh_key(&p.mesh)) {
             continue;
         }
-        let vertices = device.create_buffer_with_data(&p.mesh.vertices, vk::BufferUsageFlags::VERTEX_BUFFER, "vertices")?;
+        let vertices =
+            device.create_buffer_with_data(&p.mesh.vertices, vk::BufferUsageFlags::VERTEX_BUFFER, "vertices")?;
         let indices = device.create_buffer_with_data(&p.mesh.indices, vk::BufferUsageFlags::INDEX_BUFFER, "indices")?;
-        let index_count = u32::try_from(p.mesh.indices.len()).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
+        let index_count =
+            u32::try_from(p.mesh.indices.len()).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
         meshes.insert(mesh_key(&p.mesh), GpuMesh { vertices, indices, index_count });
     }
     Ok(meshes)

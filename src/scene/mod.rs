@@ -103,11 +103,22 @@ pub struct Object {
 /// An object's geometry.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
-    Sphere { center: Vec3, radius: f32 },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
     /// An infinite plane through `point`; `normal` is unit length.
-    Plane { point: Vec3, normal: Vec3 },
+    Plane {
+        point: Vec3,
+        normal: Vec3,
+    },
     /// An OBJ file, placed by scale, then rotations about x, y, z (degrees), then translation.
-    Mesh { path: PathBuf, scale: f32, rotate: Vec3, translate: Vec3 },
+    Mesh {
+        path: PathBuf,
+        scale: f32,
+        rotate: Vec3,
+        translate: Vec3,
+    },
 }
 
 impl Shape {
@@ -151,5 +162,161 @@ impl Scene {
             raw = overrides::apply(&mut table, overrides).map_err(scene_error)?;
         }
         validate::validate(raw, path).map_err(scene_error)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str, overrides: &[&str]) -> Result<Scene> {
+        let overrides: Vec<Override> = overrides.iter().map(|o| o.parse().unwrap()).collect();
+        Scene::parse(text, Path::new("/scenes/test.toml"), &overrides)
+    }
+
+    fn error(text: &str, overrides: &[&str]) -> String {
+        parse(text, overrides).unwrap_err().to_string()
+    }
+
+    const MINIMAL: &str = "[material.m]\nbrdf = \"lambert\"\nkd = 0.25\n\
+                           [[object]]\nshape = \"sphere\"\ncenter = [0, 0, 3]\nradius = 1\nmaterial = \"m\"\n";
+
+    #[test]
+    fn defaults_follow_the_format() {
+        let scene = parse("", &[]).unwrap();
+        assert_eq!(
+            scene.image,
+            ImageSettings {
+                width: 600,
+                height: 400,
+                samples: 4,
+                background: Vec3::splat(0.5),
+                tonemap: Tonemap::Clamp,
+                exposure: 1.0,
+                encoding: Encoding::Linear
+            }
+        );
+        assert_eq!(scene.camera, Camera { position: Vec3::ZERO, look_at: Vec3::Z, up: Vec3::Y, fov_y: 60.0 });
+        let light = parse("[[light]]\nposition = [1, 2, 3]\n", &[]).unwrap().lights[0];
+        assert_eq!(
+            light,
+            PointLight { position: Vec3::new(1.0, 2.0, 3.0), color: Vec3::ONE, power: 1.0, shadows: true }
+        );
+    }
+
+    #[test]
+    fn a_single_number_is_a_grey_and_integers_are_numbers() {
+        let scene = parse(MINIMAL, &[]).unwrap();
+        assert_eq!(scene.objects[0].brdf, Brdf::Lambert { kd: Vec3::splat(0.25) });
+        assert_eq!(scene.objects[0].shape, Shape::Sphere { center: Vec3::new(0.0, 0.0, 3.0), radius: 1.0 });
+    }
+
+    #[test]
+    fn every_brdf_parses_with_its_parameters() {
+        let text = "[material.a]\nbrdf = \"oren-nayar\"\nkd = 0.5\nsigma = 0.6\n\
+                    [material.b]\nbrdf = \"phong\"\nkd = 0.35\nks = 0.15\nshininess = 16\n\
+                    [material.c]\nbrdf = \"blinn-phong\"\nkd = 0.35\nks = 0.15\nshininess = 64\n\
+                    [material.d]\nbrdf = \"cook-torrance\"\nkd = [1, 0.85, 0.57]\nf0 = [1, 0.85, 0.57]\nroughness = 0.3\n\
+                    [[object]]\nshape = \"plane\"\npoint = [0, -2, 0]\nnormal = [0, 2, 0]\nmaterial = \"a\"\n\
+                    [[object]]\nshape = \"plane\"\npoint = [0, -2, 0]\nnormal = [0, 1, 0]\nmaterial = \"b\"\n\
+                    [[object]]\nshape = \"plane\"\npoint = [0, -2, 0]\nnormal = [0, 1, 0]\nmaterial = \"c\"\n\
+                    [[object]]\nshape = \"mesh\"\npath = \"bunny\"\nmaterial = \"d\"\n";
+        let scene = parse(text, &[]).unwrap();
+        let brdfs: Vec<Brdf> = scene.objects.iter().map(|o| o.brdf).collect();
+        let (half, gold) = (Vec3::splat(0.5), Vec3::new(1.0, 0.85, 0.57));
+        assert_eq!(brdfs[0], Brdf::OrenNayar { kd: half, sigma: 0.6 });
+        assert_eq!(brdfs[1], Brdf::Phong { kd: Vec3::splat(0.35), ks: Vec3::splat(0.15), shininess: 16.0 });
+        assert_eq!(brdfs[2], Brdf::BlinnPhong { kd: Vec3::splat(0.35), ks: Vec3::splat(0.15), shininess: 64.0 });
+        // metalness defaults to 0 and the diffuse lobe to Oren-Nayar, as in the course.
+        assert_eq!(
+            brdfs[3],
+            Brdf::CookTorrance {
+                kd: gold,
+                f0: gold,
+                roughness: 0.3,
+                metalness: 0.0,
+                diffuse: crate::brdf::DiffuseModel::OrenNayar
+            }
+        );
+        assert_eq!(scene.objects[0].shape, Shape::Plane { point: Vec3::new(0.0, -2.0, 0.0), normal: Vec3::Y });
+        assert_eq!(
+            scene.objects[3].shape,
+            Shape::Mesh { path: BUNNY_PATH.into(), scale: 1.0, rotate: Vec3::ZERO, translate: Vec3::ZERO }
+        );
+    }
+
+    #[test]
+    fn mesh_paths_are_relative_to_the_scene_file() {
+        let text = MINIMAL.replace(
+            "shape = \"sphere\"\ncenter = [0, 0, 3]\nradius = 1",
+            "shape = \"mesh\"\npath = \"models/cube.obj\"",
+        );
+        let scene = parse(&text, &[]).unwrap();
+        assert!(
+            matches!(&scene.objects[0].shape, Shape::Mesh { path, .. } if path == Path::new("/scenes/models/cube.obj"))
+        );
+    }
+
+    #[test]
+    fn overrides_reach_every_kind_of_key() {
+        let text = format!("{MINIMAL}[[light]]\nposition = [0, 0, -2]\npower = 60\n");
+        let scene = parse(
+            &text,
+            &[
+                "image.width=1200",
+                "camera.fov_y=45",
+                "light.0.power=30",
+                "material.m.brdf=oren-nayar",
+                "material.m.sigma=0.4",
+                "object.0.radius=2",
+            ],
+        )
+        .unwrap();
+        assert_eq!(scene.image.width, 1200);
+        assert_eq!(scene.camera.fov_y, 45.0);
+        assert_eq!(scene.lights[0].power, 30.0);
+        assert_eq!(scene.objects[0].brdf, Brdf::OrenNayar { kd: Vec3::splat(0.25), sigma: 0.4 });
+        assert!(matches!(scene.objects[0].shape, Shape::Sphere { radius, .. } if radius == 2.0));
+    }
+
+    #[test]
+    fn bad_overrides_name_themselves() {
+        assert!(error(MINIMAL, &["image.widht=3"]).contains("--set image.widht=3: unknown field `widht`"));
+        assert!(error(MINIMAL, &["object.0.radius=-1"]).contains("object.0.radius = -1"));
+        assert!(error(MINIMAL, &["object.x.radius=1"]).contains("not an index"));
+        assert!(error(&format!("[image]\nwidth = 300\n{MINIMAL}"), &["image.width.x=1"])
+            .contains("is a value, not a table"));
+        assert!(error(MINIMAL, &["light.0.power=1"]).contains("no `light`"));
+        assert!("nokey".parse::<Override>().is_err());
+        assert!("a..b=1".parse::<Override>().is_err());
+    }
+
+    #[test]
+    fn ranges_are_enforced() {
+        let with = |from: &str, to: &str| error(&MINIMAL.replace(from, to), &[]);
+        assert!(with("kd = 0.25", "kd = -0.1").contains("material.m.kd = [-0.1, -0.1, -0.1]"));
+        assert!(with("kd = 0.25", "kd = [0.1, 0.2]").contains("invalid length 2"));
+        assert!(with("radius = 1", "radius = 0").contains("object.0.radius = 0"));
+        assert!(with("brdf = \"lambert\"", "brdf = \"cook-torrance\"\nf0 = 0.5\nroughness = 0")
+            .contains("roughness = 0: must be in (0, 1]"));
+        assert!(with("brdf = \"lambert\"", "brdf = \"cook-torrance\"\nf0 = 0.5\nroughness = 0.5\nmetalness = 2")
+            .contains("metalness = 2"));
+        assert!(with("brdf = \"lambert\"", "brdf = \"phong\"\nks = 0.5\nshininess = -1").contains("shininess = -1"));
+        assert!(with("brdf = \"lambert\"", "brdf = \"oren-nayar\"").contains("material.m.sigma: missing"));
+        assert!(with("brdf = \"lambert\"", "brdf = \"oren-nayar\"\nsigma = -0.5").contains("sigma = -0.5"));
+        assert!(with("shape = \"sphere\"", "shape = \"cube\"").contains("object.0.shape = \"cube\""));
+        assert!(with("radius = 1\n", "").contains("object.0.radius: missing"));
+        assert!(
+            with("radius = 1\n", "radius = 1\npoint = [0, 0, 0]\n").contains("object.0.point: not a key of a sphere")
+        );
+        assert!(error("[image]\ntonemap = \"filmic\"", &[]).contains("image.tonemap = \"filmic\""));
+        assert!(error("[image]\nencoding = \"gamma\"", &[]).contains("image.encoding = \"gamma\""));
+        assert!(error("[image]\nsamples = 3", &[]).contains("image.samples = 3"));
+        assert!(error("[image]\nwidth = -5", &[]).contains("image.width = -5"));
+        assert!(error("[camera]\nup = [0, 0, 1]", &[]).contains("camera.up = [0.0, 0.0, 1.0]: parallel"));
+        assert!(error("[camera]\nfov_y = 180", &[]).contains("camera.fov_y = 180"));
+        assert!(error("[[light]]\nposition = [0, 0, 0]\npower = -1", &[]).contains("light.0.power = -1"));
+        assert!(error("[[light]]\ntype = \"spot\"\nposition = [0, 0, 0]", &[]).contains("light.0.type = \"spot\""));
+        assert!(error("[[light]]\npower = 1", &[]).contains("missing field `position`"));
     }
 }

@@ -88,7 +88,8 @@ fn set(table: &mut Table, item: &Override) -> Result<(), String> {
         current = match value {
             Value::Table(child) => child,
             Value::Array(array) => {
-                let index_text = iter.next().ok_or_else(|| format!("`{here}` is a list: add an index, e.g. {here}.0"))?;
+                let index_text =
+                    iter.next().ok_or_else(|| format!("`{here}` is a list: add an index, e.g. {here}.0"))?;
                 let count = array.len();
                 let index: usize = index_text
                     .parse()

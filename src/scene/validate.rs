@@ -22,12 +22,8 @@ pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
         .iter()
         .map(|(name, m)| Ok((name.clone(), material(name, m)?)))
         .collect::<Check<BTreeMap<_, _>>>()?;
-    let objects = raw
-        .objects
-        .iter()
-        .enumerate()
-        .map(|(i, o)| object(i, o, &materials, path))
-        .collect::<Check<Vec<_>>>()?;
+    let objects =
+        raw.objects.iter().enumerate().map(|(i, o)| object(i, o, &materials, path)).collect::<Check<Vec<_>>>()?;
     Ok(Scene { source: path.to_path_buf(), image, camera, lights, objects })
 }
 
@@ -42,7 +38,11 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
         "clamp" => Tonemap::Clamp,
         "reinhard" => Tonemap::Reinhard,
         "aces" => Tonemap::Aces,
-        other => return Err(format!("image.tonemap = {other:?}: unknown tonemap (expected \"clamp\", \"reinhard\" or \"aces\")")),
+        other => {
+            return Err(format!(
+                "image.tonemap = {other:?}: unknown tonemap (expected \"clamp\", \"reinhard\" or \"aces\")"
+            ))
+        }
     };
     let encoding = match s.encoding.as_str() {
         "linear" => Encoding::Linear,
@@ -71,7 +71,9 @@ fn camera(s: &CameraSection) -> Check<Camera> {
     if position == look_at {
         return Err(format!("camera.look_at = {:?}: equal to camera.position, so the camera looks nowhere", s.look_at));
     }
-    if (look_at - position).cross(up).length_squared() <= 1e-12 * (look_at - position).length_squared() * up.length_squared() {
+    if (look_at - position).cross(up).length_squared()
+        <= 1e-12 * (look_at - position).length_squared() * up.length_squared()
+    {
         return Err(format!("camera.up = {:?}: parallel to the view direction, so the image has no defined up", s.up));
     }
     if !(s.fov_y > 0.0 && s.fov_y < 180.0) {
@@ -119,12 +121,7 @@ fn material(name: &str, s: &MaterialSection) -> Check<Brdf> {
         ("diffuse", s.diffuse.is_some()),
     ];
     if let Some((param, _)) = present.iter().find(|(param, set)| *set && !accepted.contains(param)) {
-        return Err(format!(
-            "{}: not a parameter of brdf {:?} (it takes {})",
-            key(param),
-            s.brdf,
-            accepted.join(", ")
-        ));
+        return Err(format!("{}: not a parameter of brdf {:?} (it takes {})", key(param), s.brdf, accepted.join(", ")));
     }
     let required = |param: &str, value: Option<f32>| -> Check<f32> {
         value.ok_or_else(|| format!("{}: missing, and brdf {:?} needs it", key(param), s.brdf))
@@ -181,7 +178,11 @@ const SHAPE_KEYS: [(&str, &[&str]); 3] = [
 fn object(index: usize, s: &ObjectSection, materials: &BTreeMap<String, Brdf>, scene_path: &Path) -> Check<Object> {
     let key = |name: &str| format!("object.{index}.{name}");
     let Some(&(_, accepted)) = SHAPE_KEYS.iter().find(|(shape, _)| *shape == s.shape) else {
-        return Err(format!("{} = {:?}: unknown shape (expected \"sphere\", \"plane\" or \"mesh\")", key("shape"), s.shape));
+        return Err(format!(
+            "{} = {:?}: unknown shape (expected \"sphere\", \"plane\" or \"mesh\")",
+            key("shape"),
+            s.shape
+        ));
     };
     let present = [
         ("center", s.center.is_some()),

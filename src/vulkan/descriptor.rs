@@ -18,7 +18,11 @@ impl Device {
     ///
     /// # Errors
     /// `Error::Vulkan` if the driver refuses the pool.
-    pub fn create_descriptor_pool(self: &Arc<Self>, max_sets: u32, sizes: &[vk::DescriptorPoolSize]) -> Result<DescriptorPool> {
+    pub fn create_descriptor_pool(
+        self: &Arc<Self>,
+        max_sets: u32,
+        sizes: &[vk::DescriptorPoolSize],
+    ) -> Result<DescriptorPool> {
         let info = vk::DescriptorPoolCreateInfo::default().max_sets(max_sets).pool_sizes(sizes);
         // SAFETY: the device is alive.
         let raw = unsafe { self.raw.create_descriptor_pool(&info, None)? };

@@ -68,7 +68,8 @@ pub fn list_devices(instance: &Instance) -> Result<Vec<(vk::PhysicalDevice, Devi
             unsafe { instance.raw.get_physical_device_properties2(raw, &mut properties2) };
             let p = properties2.properties;
             let name = p.device_name_as_c_str().map_or_else(|_| "?".into(), |n| n.to_string_lossy().into_owned());
-            let driver = driver.driver_info_as_c_str().map_or_else(|_| String::new(), |n| n.to_string_lossy().into_owned());
+            let driver =
+                driver.driver_info_as_c_str().map_or_else(|_| String::new(), |n| n.to_string_lossy().into_owned());
             (raw, DeviceInfo { index, name, kind: p.device_type, api_version: p.api_version, driver })
         })
         .collect())
@@ -121,8 +122,10 @@ impl Device {
             .ok_or_else(|| Error::Device(format!("device {} ({}) has no graphics queue", info.index, info.name)))?
             as u32;
         let priorities = [1.0];
-        let queue_info = [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
-        let mut features13 = vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
+        let queue_info =
+            [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
+        let mut features13 =
+            vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
         let create_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info).push_next(&mut features13);
         // SAFETY: create_info and what it points to outlive the call.
         let raw = unsafe { instance.raw.create_device(physical, &create_info, None)? };
@@ -254,5 +257,26 @@ impl Drop for Device {
             ManuallyDrop::drop(&mut self.allocator);
             self.raw.destroy_device(None);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_validation_layer_reports_a_misuse() {
+        // Proves that the messenger is wired: tests that see no message are clean, not deaf.
+        let device = Device::new(Arc::new(Instance::new(true).unwrap()), None).unwrap();
+        assert!(device.instance.take_validation_messages().is_empty());
+        let info = vk::BufferCreateInfo::default().size(0).usage(vk::BufferUsageFlags::VERTEX_BUFFER);
+        // SAFETY: deliberately invalid (size 0) but harmless on lavapipe; the buffer is destroyed at once.
+        unsafe {
+            if let Ok(buffer) = device.raw.create_buffer(&info, None) {
+                device.raw.destroy_buffer(buffer, None);
+            }
+        }
+        let messages = device.instance.take_validation_messages();
+        assert!(messages.iter().any(|m| m.contains("VUID-VkBufferCreateInfo-size-00912")), "{messages:?}");
     }
 }

@@ -46,7 +46,8 @@ impl Device {
         name: &str,
     ) -> Result<Arc<PipelineLayout>> {
         // Built field by field so that Drop frees whatever was made if a later step fails.
-        let mut layout = PipelineLayout { raw: vk::PipelineLayout::null(), set_layouts: Vec::new(), device: self.clone() };
+        let mut layout =
+            PipelineLayout { raw: vk::PipelineLayout::null(), set_layouts: Vec::new(), device: self.clone() };
         for bindings in sets {
             let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
             // SAFETY: the device is alive.

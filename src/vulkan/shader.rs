@@ -130,3 +130,43 @@ impl Drop for ShaderModule {
         unsafe { self.device.raw.destroy_shader_module(self.raw, None) };
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_entry_shader_compiles() {
+        let sources = ShaderSources::default();
+        let entries: Vec<String> = sources
+            .paths()
+            .filter(|p| p.ends_with(".vert") || p.ends_with(".frag") || p.ends_with(".comp"))
+            .map(String::from)
+            .collect();
+        assert!(entries.len() >= 2, "{entries:?}");
+        let compiler = ShaderCompiler::new(sources).unwrap();
+        for entry in entries {
+            let spirv = compiler.compile(&entry).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(spirv[0], 0x0723_0203, "{entry} is not SPIR-V");
+        }
+    }
+
+    #[test]
+    fn a_compile_error_names_the_included_file_and_line() {
+        let broken = "#ifndef BRDF_LAMBERT_GLSL\n#define BRDF_LAMBERT_GLSL\n#include \"common/math.glsl\"\n\
+                      vec3 lambert(vec3 kd) { return kd * ; }\n#endif\n";
+        let sources = ShaderSources::default().with_file("brdf/lambert.glsl", broken);
+        let compiler = ShaderCompiler::new(sources).unwrap();
+        let message = compiler.compile("forward.frag").unwrap_err().to_string();
+        assert!(message.contains("forward.frag"), "{message}");
+        assert!(message.contains("brdf/lambert.glsl:4:"), "{message}");
+    }
+
+    #[test]
+    fn a_missing_include_is_named() {
+        let sources = ShaderSources::default()
+            .with_file("test.frag", "#version 460\n#include \"nowhere.glsl\"\nvoid main() {}\n");
+        let message = ShaderCompiler::new(sources).unwrap().compile("test.frag").unwrap_err().to_string();
+        assert!(message.contains("test.frag") && message.contains("nowhere.glsl"), "{message}");
+    }
+}

@@ -1,0 +1,46 @@
+# vk-render: `make render` renders the figures into out/, `make test` runs every test.
+# Both first install the Debian packages they need (see BUILD_NOTES in the README).
+
+# Debian packages, by what needs them.
+RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1
+BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools
+TEST_PACKAGES := vulkan-validationlayers
+
+CARGO ?= cargo
+BIN := target/release/vk-render
+OUT ?= out
+SCENES := $(wildcard assets/scenes/*.toml)
+
+.PHONY: all setup setup-test build render test clean
+
+all: render
+
+## setup: install the packages to build and run vk-render (apt-get; quiet when all are present)
+setup:
+	@scripts/install-packages.sh $(RUNTIME_PACKAGES) $(BUILD_PACKAGES)
+	@command -v $(CARGO) >/dev/null || { echo "cargo is missing: install Rust from https://rustup.rs" >&2; exit 1; }
+
+## setup-test: also the Khronos validation layer, which every rendering test turns on
+setup-test: setup
+	@scripts/install-packages.sh $(TEST_PACKAGES)
+
+## build: the release binary
+build: setup
+	$(CARGO) build --release --locked
+
+## render: every scene of assets/scenes/ into out/NAME.png
+render: build
+	@mkdir -p $(OUT)
+	@for scene in $(SCENES); do \
+		name=$$(basename $$scene .toml); \
+		echo "rendering $(OUT)/$$name.png"; \
+		$(BIN) render $$scene -o $(OUT)/$$name.png || exit 1; \
+	done
+
+## test: every test (unit, shader compilation, GPU renders with validation, CLI errors)
+test: setup-test
+	$(CARGO) test --release --locked
+
+clean:
+	$(CARGO) clean
+	rm -rf $(OUT)
