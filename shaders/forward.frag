@@ -10,6 +10,8 @@ layout(location = 1) in vec3 in_world_normal;
 
 layout(location = 0) out vec4 out_radiance;
 
+const float MIN_NOV = 1e-4;
+
 void main() {
     ObjectData object = objects[draw.object_index];
     // Interpolating a homogeneous position is exact in clip space; w tends to 0 towards the plane's horizon.
@@ -23,6 +25,10 @@ void main() {
     vec3 wo = normalize(frame.camera_position.xyz - p);
     if (object.flags.x != 0u && dot(n, wo) < 0.0) {
         n = -n;
+    } else if (dot(n, wo) < MIN_NOV) {
+        // At a silhouette an interpolated normal can face away from a camera that still sees the
+        // tessellated surface: bend it back over the horizon, since the BRDFs reflect nothing below it.
+        n = normalize(n + (MIN_NOV - dot(n, wo)) * wo);
     }
     vec3 radiance = vec3(0.0);
     for (uint i = 0u; i < frame.light_count; ++i) {

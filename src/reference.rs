@@ -17,20 +17,13 @@ pub struct ReferenceImage {
 /// Ray-traces the scene (no shadows yet: the rasterizer has none either).
 ///
 /// # Errors
-/// `Error::Scene` if the scene holds a mesh or a BRDF the reference cannot shade yet.
+/// `Error::Scene` if the scene holds a mesh, which the reference cannot trace yet.
 pub fn render(scene: &Scene) -> Result<ReferenceImage> {
     let unsupported = |message: String| Error::Scene { file: scene.source.clone(), message };
     for (index, object) in scene.objects.iter().enumerate() {
         if matches!(object.shape, Shape::Mesh { .. }) {
             return Err(unsupported(format!(
                 "object.{index}.shape = \"mesh\": not supported by the CPU reference yet"
-            )));
-        }
-        if !object.brdf.is_supported() {
-            return Err(unsupported(format!(
-                "material.{}.brdf = {:?}: not supported by the CPU reference yet",
-                object.material,
-                object.brdf.name()
             )));
         }
     }
@@ -121,7 +114,7 @@ fn shade(scene: &Scene, index: usize, p: Vec3, wo: Vec3) -> Vec3 {
             if cos <= 0.0 {
                 return Vec3::ZERO;
             }
-            let f = object.brdf.eval(n, wi, wo).unwrap_or(Vec3::ZERO);
+            let f = object.brdf.eval(n, wi, wo);
             f * light.color * light.power / d2 * cos
         })
         .sum()

@@ -156,13 +156,6 @@ fn a_parameter_of_another_brdf() {
 }
 
 #[test]
-fn a_brdf_not_rendered_yet_is_refused_after_validation() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("brdf = \"lambert\"", "brdf = \"oren-nayar\"\nsigma = 0.3"));
-    fails_with(&scene, &[], &["scene.toml", "material.grey.brdf = \"oren-nayar\"", "not yet supported"]);
-}
-
-#[test]
 fn out_of_range_reflectance() {
     let folder = temp_dir();
     let scene = scene_file(folder.path(), edited("kd = [0.5, 0.5, 0.5]", "kd = [0.5, 1.5, 0.5]"));

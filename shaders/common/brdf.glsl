@@ -4,19 +4,40 @@
 // Dispatch over the closed set of BRDFs; ids mirror src/render/gpu_types.rs.
 //
 // One shader with a switch rather than one pipeline per BRDF: the branch is uniform across a draw (one
-// object, one material), so it costs next to nothing, every model shares the same forward and probe
-// passes, and no pipeline permutations need building.
+// object, one material), so it costs next to nothing, the forward pass and the probe pass share this one
+// function, and no pipeline permutations need building.
 
 #include "common/scene.glsl"
 #include "brdf/lambert.glsl"
+#include "brdf/oren_nayar.glsl"
+#include "brdf/phong.glsl"
+#include "brdf/blinn_phong.glsl"
+#include "brdf/cook_torrance.glsl"
 
 const uint BRDF_LAMBERT = 0u;
+const uint BRDF_OREN_NAYAR = 1u;
+const uint BRDF_PHONG = 2u;
+const uint BRDF_BLINN_PHONG = 3u;
+const uint BRDF_COOK_TORRANCE = 4u;
 
 // f_r(wi, wo) at a surface with unit normal n, without the cosine; wi and wo point away from the surface.
+// Mirrors Brdf::eval in src/brdf/mod.rs. Reflection only: zero when wi or wo is at or below the horizon;
+// every model relies on this check, made here once.
 vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {
+    if (dot(n, wi) <= 0.0 || dot(n, wo) <= 0.0) {
+        return vec3(0.0);
+    }
     switch (m.brdf) {
         case BRDF_LAMBERT:
             return lambert(m.kd.rgb);
+        case BRDF_OREN_NAYAR:
+            return oren_nayar(n, wi, wo, m.kd.rgb, m.sigma);
+        case BRDF_PHONG:
+            return phong(n, wi, wo, m.kd.rgb, m.ks.rgb, m.shininess);
+        case BRDF_BLINN_PHONG:
+            return blinn_phong(n, wi, wo, m.kd.rgb, m.ks.rgb, m.shininess);
+        case BRDF_COOK_TORRANCE:
+            return cook_torrance(n, wi, wo, m.kd.rgb, m.f0.rgb, m.roughness, m.metalness, m.diffuse);
         default:
             return vec3(0.0);
     }

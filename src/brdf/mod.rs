@@ -4,11 +4,21 @@
 //! GLSL evaluated on the GPU can be checked term by term against this code. Every function returns
 //! f_r without the cosine: the caller multiplies by `n . wi` once.
 
+mod blinn_phong;
+mod cook_torrance;
 mod lambert;
+mod oren_nayar;
+mod phong;
 
 use glam::Vec3;
 
+pub use blinn_phong::{blinn_phong, blinn_phong_specular, half_vector};
+pub use cook_torrance::{
+    cook_torrance, cook_torrance_specular, d_ggx, f_schlick, smith_schlick_k, v_smith_schlick,
+};
 pub use lambert::lambert;
+pub use oren_nayar::{cos_phi_difference, oren_nayar, oren_nayar_a, oren_nayar_b};
+pub use phong::{mirror, phong, phong_specular, pow_lobe, MIN_COS_THETA_I};
 
 /// Which diffuse lobe a Cook-Torrance material uses under its specular lobe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,18 +58,23 @@ impl Brdf {
         }
     }
 
-    /// Whether the renderer can shade this model yet (the others parse and validate, then answer
-    /// "not yet supported").
-    pub fn is_supported(&self) -> bool {
-        matches!(self, Brdf::Lambert { .. })
-    }
-
-    /// Evaluates f_r(wi, wo) at a surface with normal `n` (all unit vectors, pointing away from the
-    /// surface), or `None` for a model the renderer does not support yet.
-    pub fn eval(&self, _n: Vec3, _wi: Vec3, _wo: Vec3) -> Option<Vec3> {
+    /// Evaluates f_r(wi, wo) at a surface with normal `n`, all unit vectors pointing away from the surface;
+    /// mirrors `brdf_eval` in `shaders/common/brdf.glsl`.
+    ///
+    /// Reflection only: zero when wi or wo is at or below the horizon. Every model relies on this check,
+    /// made here once: with both cosines positive, the half vector exists and no denominator vanishes.
+    pub fn eval(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+        if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
+            return Vec3::ZERO;
+        }
         match *self {
-            Brdf::Lambert { kd } => Some(lambert(kd)),
-            _ => None,
+            Brdf::Lambert { kd } => lambert(kd),
+            Brdf::OrenNayar { kd, sigma } => oren_nayar(n, wi, wo, kd, sigma),
+            Brdf::Phong { kd, ks, shininess } => phong(n, wi, wo, kd, ks, shininess),
+            Brdf::BlinnPhong { kd, ks, shininess } => blinn_phong(n, wi, wo, kd, ks, shininess),
+            Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse } => {
+                cook_torrance(n, wi, wo, kd, f0, roughness, metalness, diffuse)
+            }
         }
     }
 }

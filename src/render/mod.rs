@@ -107,13 +107,6 @@ impl Renderer {
                 list.join(", ")
             )));
         }
-        if let Some((index, object)) = scene.objects.iter().enumerate().find(|(_, o)| !o.brdf.is_supported()) {
-            return Err(error(format!(
-                "material.{}.brdf = {:?} (used by object.{index}): not yet supported by the renderer (supported: lambert)",
-                object.material,
-                object.brdf.name()
-            )));
-        }
         Ok(())
     }
 

@@ -1,0 +1,26 @@
+#ifndef BRDF_BLINN_PHONG_GLSL
+#define BRDF_BLINN_PHONG_GLSL
+
+// Mirrored by src/brdf/blinn_phong.rs.
+
+#include "brdf/lambert.glsl"
+#include "brdf/phong.glsl"
+
+// The half vector normalize(wi + wo); defined whenever both directions are above the surface.
+vec3 half_vector(vec3 wi, vec3 wo) { return normalize(wi + wo); }
+
+// Blinn 1977, "Models of light reflection for computer synthesized pictures": ks / cos(theta_i) *
+// max(0, n . h)^s, the angle between n and the half vector replacing Phong's angle to the mirror direction.
+// Needs n.wi > 0 and n.wo > 0 (checked once by brdf_eval).
+vec3 blinn_phong_specular(vec3 n, vec3 wi, vec3 wo, vec3 ks, float shininess) {
+    float NoL = dot(n, wi);
+    float NoH = max(dot(n, half_vector(wi, wo)), 0.0);
+    return ks * (pow_lobe(NoH, shininess) / max(NoL, MIN_COS_THETA_I));
+}
+
+// Lambert(kd) + Blinn-Phong specular(ks, s).
+vec3 blinn_phong(vec3 n, vec3 wi, vec3 wo, vec3 kd, vec3 ks, float shininess) {
+    return lambert(kd) + blinn_phong_specular(n, wi, wo, ks, shininess);
+}
+
+#endif

@@ -1,0 +1,59 @@
+#ifndef BRDF_COOK_TORRANCE_GLSL
+#define BRDF_COOK_TORRANCE_GLSL
+
+// Cook-Torrance with GGX, Smith-Schlick and Schlick (the Unreal Engine 4 choices, Karis 2013).
+// Mirrored by src/brdf/cook_torrance.rs.
+
+#include "common/math.glsl"
+#include "brdf/lambert.glsl"
+#include "brdf/oren_nayar.glsl"
+#include "brdf/blinn_phong.glsl"
+
+// Trowbridge and Reitz 1975; Walter et al. 2007, "Microfacet models for refraction through rough surfaces":
+// D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1) + 1)^2), alpha = roughness^2.
+float d_ggx(float NoH, float alpha) {
+    float a2 = alpha * alpha;
+    float d = NoH * NoH * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
+}
+
+// Karis 2013: k = (roughness + 1)^2 / 8, Schlick's k remapped for analytic lights.
+float smith_schlick_k(float roughness) { return (roughness + 1.0) * (roughness + 1.0) / 8.0; }
+
+// Schlick 1994, "An inexpensive BRDF model for physically-based rendering", approximating Smith 1967:
+// V = G / (4 (n.wo)(n.wi)), G = G1(n.wo) G1(n.wi), G1(x) = x / (x (1 - k) + k). The cosines cancel, so V
+// stays finite at grazing angles where G and the denominator both vanish.
+float v_smith_schlick(float NoV, float NoL, float k) {
+    return 0.25 / ((NoV * (1.0 - k) + k) * (NoL * (1.0 - k) + k));
+}
+
+// Schlick 1994: F = F0 + (1 - F0)(1 - h.wo)^5.
+vec3 f_schlick(float VoH, vec3 f0) {
+    float m = clamp(1.0 - VoH, 0.0, 1.0);
+    float m2 = m * m;
+    return f0 + (vec3(1.0) - f0) * (m2 * m2 * m);
+}
+
+// Cook and Torrance 1982, "A reflectance model for computer graphics": D F G / (4 (n.wo)(n.wi)).
+// Needs n.wi > 0 and n.wo > 0 (checked once by brdf_eval).
+vec3 cook_torrance_specular(vec3 n, vec3 wi, vec3 wo, vec3 f0, float roughness) {
+    float NoL = dot(n, wi);
+    float NoV = dot(n, wo);
+    vec3 h = half_vector(wi, wo);
+    float NoH = clamp(dot(n, h), 0.0, 1.0);
+    float VoH = clamp(dot(wo, h), 0.0, 1.0);
+    float alpha = roughness * roughness;
+    return d_ggx(NoH, alpha) * v_smith_schlick(NoV, NoL, smith_schlick_k(roughness)) * f_schlick(VoH, f0);
+}
+
+const uint DIFFUSE_OREN_NAYAR = 0u;
+const uint DIFFUSE_LAMBERT = 1u;
+
+// f = (1 - metalness) f_diffuse + metalness f_specular, the diffuse lobe Oren-Nayar with sigma = roughness
+// (the course) or Lambert.
+vec3 cook_torrance(vec3 n, vec3 wi, vec3 wo, vec3 kd, vec3 f0, float roughness, float metalness, uint diffuse) {
+    vec3 f_diffuse = diffuse == DIFFUSE_LAMBERT ? lambert(kd) : oren_nayar(n, wi, wo, kd, roughness);
+    return (1.0 - metalness) * f_diffuse + metalness * cook_torrance_specular(n, wi, wo, f0, roughness);
+}
+
+#endif
