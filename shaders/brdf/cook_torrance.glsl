@@ -10,10 +10,14 @@
 #include "brdf/blinn_phong.glsl"
 
 // Trowbridge and Reitz 1975; Walter et al. 2007, "Microfacet models for refraction through rough surfaces":
-// D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1) + 1)^2), alpha = roughness^2.
-float d_ggx(float NoH, float alpha) {
+// D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1) + 1)^2), alpha = roughness^2. The denominator is written
+// (1 - (n.h)^2) + (n.h)^2 alpha^2 with 1 - (n.h)^2 = |n x h|^2: as given, it cancels to 0 in float when h is
+// near n and alpha is small, and D becomes infinite.
+float d_ggx(vec3 n, vec3 h, float alpha) {
+    float NoH = dot(n, h);
     float a2 = alpha * alpha;
-    float d = NoH * NoH * (a2 - 1.0) + 1.0;
+    vec3 NxH = cross(n, h);
+    float d = dot(NxH, NxH) + NoH * NoH * a2;
     return a2 / (PI * d * d);
 }
 
@@ -40,10 +44,9 @@ vec3 cook_torrance_specular(vec3 n, vec3 wi, vec3 wo, vec3 f0, float roughness) 
     float NoL = dot(n, wi);
     float NoV = dot(n, wo);
     vec3 h = half_vector(wi, wo);
-    float NoH = clamp(dot(n, h), 0.0, 1.0);
     float VoH = clamp(dot(wo, h), 0.0, 1.0);
     float alpha = roughness * roughness;
-    return d_ggx(NoH, alpha) * v_smith_schlick(NoV, NoL, smith_schlick_k(roughness)) * f_schlick(VoH, f0);
+    return d_ggx(n, h, alpha) * v_smith_schlick(NoV, NoL, smith_schlick_k(roughness)) * f_schlick(VoH, f0);
 }
 
 const uint DIFFUSE_OREN_NAYAR = 0u;

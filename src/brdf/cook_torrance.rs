@@ -10,9 +10,13 @@ use super::{lambert, oren_nayar, DiffuseModel};
 
 /// D(h) = alpha^2 / (pi ((n.h)^2 (alpha^2 - 1) + 1)^2), alpha = roughness^2 (Trowbridge and Reitz 1975;
 /// Walter et al. 2007, "Microfacet models for refraction through rough surfaces").
-pub fn d_ggx(n_o_h: f32, alpha: f32) -> f32 {
+///
+/// The denominator is written (1 - (n.h)^2) + (n.h)^2 alpha^2 with 1 - (n.h)^2 = |n x h|^2: as given, it
+/// cancels to 0 in float when h is near n and alpha is small, and D becomes infinite.
+pub fn d_ggx(n: Vec3, h: Vec3, alpha: f32) -> f32 {
+    let n_o_h = n.dot(h);
     let a2 = alpha * alpha;
-    let d = n_o_h * n_o_h * (a2 - 1.0) + 1.0;
+    let d = n.cross(h).length_squared() + n_o_h * n_o_h * a2;
     a2 / (PI * d * d)
 }
 
@@ -40,10 +44,9 @@ pub fn f_schlick(v_o_h: f32, f0: Vec3) -> Vec3 {
 pub fn cook_torrance_specular(n: Vec3, wi: Vec3, wo: Vec3, f0: Vec3, roughness: f32) -> Vec3 {
     let (n_o_l, n_o_v) = (n.dot(wi), n.dot(wo));
     let h = half_vector(wi, wo);
-    let n_o_h = n.dot(h).clamp(0.0, 1.0);
     let v_o_h = wo.dot(h).clamp(0.0, 1.0);
     let alpha = roughness * roughness;
-    d_ggx(n_o_h, alpha) * v_smith_schlick(n_o_v, n_o_l, smith_schlick_k(roughness)) * f_schlick(v_o_h, f0)
+    d_ggx(n, h, alpha) * v_smith_schlick(n_o_v, n_o_l, smith_schlick_k(roughness)) * f_schlick(v_o_h, f0)
 }
 
 /// f = (1 - metalness) f_diffuse + metalness f_specular, the diffuse lobe Oren-Nayar with

@@ -9,6 +9,8 @@ mod cook_torrance;
 mod lambert;
 mod oren_nayar;
 mod phong;
+#[cfg(test)]
+mod tests;
 
 use glam::Vec3;
 
