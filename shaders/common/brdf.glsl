@@ -7,7 +7,7 @@
 // object, one material), so it costs next to nothing, the forward pass and the probe pass share this one
 // function, and no pipeline permutations need building.
 
-#include "common/scene.glsl"
+#include "common/material.glsl"
 #include "brdf/lambert.glsl"
 #include "brdf/oren_nayar.glsl"
 #include "brdf/phong.glsl"

@@ -3,20 +3,7 @@
 
 // The forward pass's inputs. Mirrored byte for byte by src/render/gpu_types.rs.
 
-// A material: which BRDF (see brdf.glsl) and every model's parameters.
-struct Material {
-    vec4 kd;         // rgb
-    vec4 ks;         // rgb
-    vec4 f0;         // rgb
-    uint brdf;       // BRDF_*
-    float shininess;
-    float sigma;
-    float roughness;
-    float metalness;
-    uint diffuse;    // DIFFUSE_* under a Cook-Torrance lobe
-    uint pad0;
-    uint pad1;
-};
+#include "common/material.glsl"
 
 struct ObjectData {
     mat4 model;          // object to world

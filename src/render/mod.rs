@@ -2,11 +2,13 @@
 
 mod forward;
 pub mod gpu_types;
+mod probe;
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use ash::vk;
+use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
@@ -19,6 +21,8 @@ use crate::vulkan::{
 };
 use forward::{ForwardPass, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuFrame, GpuObject, GpuPointLight};
+pub use probe::ProbeCase;
+use probe::{read_vec3s, ProbePass};
 
 /// The near plane's distance: with reverse-Z float depth the precision does not depend on it.
 const NEAR_PLANE: f32 = 1e-3;
@@ -37,6 +41,9 @@ pub struct RendererOptions {
 /// A Vulkan device with the forward pass's shaders compiled and pipelines built once, reused for every image.
 pub struct Renderer {
     forward: ForwardPass,
+    /// Built on first use: only the BRDF tests need it.
+    probe: Option<ProbePass>,
+    compiler: ShaderCompiler,
     device: Arc<Device>,
 }
 
@@ -50,7 +57,7 @@ impl Renderer {
         let device = Device::new(instance, options.device.as_deref())?;
         let compiler = ShaderCompiler::new(options.shaders)?;
         let forward = ForwardPass::new(&device, &compiler)?;
-        let renderer = Self { forward, device };
+        let renderer = Self { forward, probe: None, compiler, device };
         renderer.check_validation()?;
         Ok(renderer)
     }
@@ -121,6 +128,22 @@ impl Renderer {
         let image = self.draw(scene, &placed)?;
         self.check_validation()?;
         Ok(image)
+    }
+
+    /// Evaluates `brdf_eval` of the GLSL on the GPU for every case (the probe pass), as float32.
+    ///
+    /// # Errors
+    /// `Error::Shader`, `Error::Vulkan` or `Error::Allocation`; `Error::Validation` if the layer complained.
+    pub fn probe_brdfs(&mut self, cases: &[ProbeCase]) -> Result<Vec<Vec3>> {
+        let probe = match self.probe.take() {
+            Some(probe) => probe,
+            None => ProbePass::new(&self.device, &self.compiler)?,
+        };
+        let results = probe.run(cases);
+        self.probe = Some(probe);
+        let results = results?;
+        self.check_validation()?;
+        Ok(results)
     }
 
     /// Takes the validation layer's messages so far (always empty without validation).
@@ -359,15 +382,7 @@ impl Renderer {
             Ok(())
         })?;
 
-        let bytes = readback.bytes()?;
-        let pixels = bytes
-            .chunks_exact(16)
-            .map(|texel| {
-                let channel = |i: usize| f32::from_ne_bytes([texel[i], texel[i + 1], texel[i + 2], texel[i + 3]]);
-                glam::Vec3::new(channel(0), channel(4), channel(8))
-            })
-            .collect();
-        Ok(HdrImage { width, height, pixels })
+        Ok(HdrImage { width, height, pixels: read_vec3s(readback.bytes()?, 16) })
     }
 }
 

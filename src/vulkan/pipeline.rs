@@ -125,6 +125,30 @@ impl Device {
     }
 }
 
+impl Device {
+    /// Creates a compute pipeline running `main` of `shader`.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` if the driver refuses the pipeline.
+    pub fn create_compute_pipeline(
+        self: &Arc<Self>,
+        shader: &ShaderModule,
+        layout: &Arc<PipelineLayout>,
+        name: &str,
+    ) -> Result<Pipeline> {
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(shader.raw)
+            .name(c"main");
+        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.raw);
+        // SAFETY: the module and layout are alive for the call.
+        let raw = unsafe { self.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
+            .map_err(|(_, e)| e)?[0];
+        self.set_name(raw, name);
+        Ok(Pipeline { raw, layout: layout.clone(), device: self.clone() })
+    }
+}
+
 impl Drop for PipelineLayout {
     fn drop(&mut self) {
         // SAFETY: no pipeline made with this layout is left (each holds an Arc of it).

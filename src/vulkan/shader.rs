@@ -76,6 +76,9 @@ impl ShaderCompiler {
         let mut options =
             shaderc::CompileOptions::new().map_err(|e| error(format!("shaderc options could not be made: {e}")))?;
         options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
+        // SPIR-V 1.5: at 1.6 glslang declares workgroup sizes with LocalSizeId, which needs the maintenance4
+        // feature, and the validation layer of Debian 12 reports it even when the feature is enabled.
+        options.set_target_spirv(shaderc::SpirvVersion::V1_5);
         options.set_generate_debug_info();
         let sources = self.sources.clone();
         options.set_include_callback(move |requested, _kind, requesting, _depth| {

@@ -1,0 +1,29 @@
+#version 460
+
+// The BRDF probe: evaluates brdf_eval, the very function the forward pass shades with, for a list of
+// (material, n, wi, wo) cases, so that tests can compare every GLSL BRDF with its Rust mirror.
+
+#include "common/brdf.glsl"
+
+layout(local_size_x = 64) in;
+
+struct ProbeCase {
+    Material material;
+    vec4 n;   // xyz
+    vec4 wi;  // xyz
+    vec4 wo;  // xyz
+};
+
+layout(set = 0, binding = 0, std430) readonly buffer Cases { ProbeCase cases[]; };
+layout(set = 0, binding = 1, std430) writeonly buffer Results { vec4 results[]; };
+
+layout(push_constant) uniform Probe { uint case_count; } probe;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= probe.case_count) {
+        return;
+    }
+    ProbeCase c = cases[i];
+    results[i] = vec4(brdf_eval(c.material, c.n.xyz, c.wi.xyz, c.wo.xyz), 0.0);
+}

@@ -1,0 +1,137 @@
+//! Every GLSL BRDF, evaluated on the GPU by the probe pass, against its Rust mirror: over a grid of
+//! (theta_i, theta_o, delta phi) including grazing angles, and of parameters, at least 4000 cases per model.
+
+mod common;
+
+use glam::{Mat3, Vec3};
+use vk_render::brdf::{Brdf, DiffuseModel};
+use vk_render::render::ProbeCase;
+
+/// Polar angles (degrees), grazing ones included; 90 is exactly on the horizon.
+const THETAS: [f32; 11] = [0.0, 5.0, 20.0, 35.0, 45.0, 60.0, 75.0, 85.0, 89.0, 89.9, 90.0];
+/// Azimuth differences (degrees).
+const DELTA_PHIS: [f32; 7] = [0.0, 10.0, 45.0, 90.0, 135.0, 179.0, 180.0];
+
+/// Two shading frames: the z axis and a tilted normal, so that no formula depends on n = +z.
+fn frames() -> [Mat3; 2] {
+    let tilted = Vec3::new(0.3, -0.5, 0.8).normalize();
+    let (t, b) = tilted.any_orthonormal_pair();
+    [Mat3::IDENTITY, Mat3::from_cols(t, b, tilted)]
+}
+
+fn direction(frame: &Mat3, theta: f32, phi: f32) -> Vec3 {
+    let (t, p) = (theta.to_radians(), phi.to_radians());
+    (*frame * Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())).normalize()
+}
+
+fn cases(models: &[Brdf]) -> Vec<ProbeCase> {
+    let mut cases = Vec::new();
+    for brdf in models {
+        for frame in frames() {
+            for theta_i in THETAS {
+                for theta_o in THETAS {
+                    for delta_phi in DELTA_PHIS {
+                        let (wi, wo) = (direction(&frame, theta_i, 30.0), direction(&frame, theta_o, 30.0 + delta_phi));
+                        cases.push(ProbeCase { brdf: *brdf, n: frame.z_axis, wi, wo });
+                    }
+                }
+            }
+        }
+    }
+    cases
+}
+
+/// Runs the probe and compares with the Rust mirror: relative error <= 1e-4, absolute floor 1e-6.
+fn gpu_matches_rust(name: &str, models: &[Brdf]) {
+    let cases = cases(models);
+    assert!(cases.len() >= 4000, "{name}: only {} cases", cases.len());
+    let gpu = common::renderer().probe_brdfs(&cases).expect("probe with no validation message");
+    let (error, i) = worst_error(&cases, &gpu, name);
+    let case = &cases[i];
+    assert!(
+        error <= 1.0,
+        "{name}: GPU {} vs Rust {} ({error:.2}x the tolerance) for {case:?}",
+        gpu[i],
+        case.brdf.eval(case.n, case.wi, case.wo)
+    );
+}
+
+/// The largest error in units of the tolerance, and the case it occurs at.
+fn worst_error(cases: &[ProbeCase], gpu: &[Vec3], name: &str) -> (f32, usize) {
+    let mut worst = (0.0f32, 0usize);
+    for (i, (case, g)) in cases.iter().zip(gpu).enumerate() {
+        let cpu = case.brdf.eval(case.n, case.wi, case.wo);
+        assert!(g.is_finite(), "{name}: GPU gave {g} for {case:?}");
+        let error = ((*g - cpu).abs() / (cpu.abs() * 1e-4).max(Vec3::splat(1e-6))).max_element();
+        if error > worst.0 {
+            worst = (error, i);
+        }
+    }
+    worst
+}
+
+const KD: Vec3 = Vec3::new(0.8, 0.5, 0.2);
+const GOLD: Vec3 = Vec3::new(1.0, 0.85, 0.57);
+
+#[test]
+fn lambert_on_the_gpu_equals_the_rust_mirror() {
+    let models: Vec<Brdf> = [KD, Vec3::splat(0.5), Vec3::ONE, Vec3::ZERO].map(|kd| Brdf::Lambert { kd }).to_vec();
+    gpu_matches_rust("lambert", &models);
+}
+
+#[test]
+fn oren_nayar_on_the_gpu_equals_the_rust_mirror() {
+    let models: Vec<Brdf> = [0.0, 0.2, 0.4, 0.6, 1.5].map(|sigma| Brdf::OrenNayar { kd: KD, sigma }).to_vec();
+    gpu_matches_rust("oren-nayar", &models);
+}
+
+#[test]
+fn phong_on_the_gpu_equals_the_rust_mirror() {
+    let ks = Vec3::splat(0.3);
+    let models: Vec<Brdf> =
+        [0.0, 1.0, 8.0, 16.0, 64.0].map(|shininess| Brdf::Phong { kd: KD * 0.7, ks, shininess }).to_vec();
+    gpu_matches_rust("phong", &models);
+}
+
+#[test]
+fn blinn_phong_on_the_gpu_equals_the_rust_mirror() {
+    let ks = Vec3::splat(0.3);
+    let models: Vec<Brdf> =
+        [0.0, 1.0, 8.0, 16.0, 64.0].map(|shininess| Brdf::BlinnPhong { kd: KD * 0.7, ks, shininess }).to_vec();
+    gpu_matches_rust("blinn-phong", &models);
+}
+
+#[test]
+fn cook_torrance_on_the_gpu_equals_the_rust_mirror() {
+    let mut models = Vec::new();
+    for roughness in [0.05, 0.3, 0.6, 1.0] {
+        for (metalness, diffuse) in
+            [(0.0, DiffuseModel::OrenNayar), (0.5, DiffuseModel::Lambert), (1.0, DiffuseModel::OrenNayar)]
+        {
+            models.push(Brdf::CookTorrance { kd: GOLD, f0: GOLD, roughness, metalness, diffuse });
+        }
+    }
+    gpu_matches_rust("cook-torrance", &models);
+}
+
+#[test]
+fn a_wrong_schlick_exponent_fails_the_probe_comparison() {
+    // The comparison must catch a real mistake: (1 - h.wo)^4 instead of ^5.
+    let broken = std::fs::read_to_string(common::root().join("shaders/brdf/cook_torrance.glsl"))
+        .unwrap()
+        .replace("(m2 * m2 * m)", "(m2 * m2)");
+    let shaders = vk_render::vulkan::ShaderSources::default().with_file("brdf/cook_torrance.glsl", broken);
+    let mut renderer =
+        vk_render::Renderer::new(vk_render::RendererOptions { validate: true, shaders, ..Default::default() }).unwrap();
+    let models = [Brdf::CookTorrance {
+        kd: GOLD,
+        f0: Vec3::splat(0.04),
+        roughness: 0.3,
+        metalness: 1.0,
+        diffuse: DiffuseModel::Lambert,
+    }];
+    let cases = cases(&models);
+    let gpu = renderer.probe_brdfs(&cases).unwrap();
+    let (error, _) = worst_error(&cases, &gpu, "broken cook-torrance");
+    assert!(error > 100.0, "the broken Fresnel went unnoticed (worst error {error}x the tolerance)");
+}
