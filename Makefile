@@ -9,7 +9,6 @@ TEST_PACKAGES := vulkan-validationlayers
 CARGO ?= cargo
 BIN := target/release/vk-render
 OUT ?= out
-SCENES := $(wildcard assets/scenes/*.toml)
 
 .PHONY: all setup setup-test build render test clean
 
@@ -28,14 +27,9 @@ setup-test: setup
 build: setup
 	$(CARGO) build --release --locked
 
-## render: every scene of assets/scenes/ into out/NAME.png
+## render: every figure of the practical into out/ (each image, and one contact sheet per figure)
 render: build
-	@mkdir -p $(OUT)
-	@for scene in $(SCENES); do \
-		name=$$(basename $$scene .toml); \
-		echo "rendering $(OUT)/$$name.png"; \
-		$(BIN) render $$scene -o $(OUT)/$$name.png || exit 1; \
-	done
+	$(BIN) figures -o $(OUT)
 
 ## test: every test (unit, shader compilation, GPU renders with validation, CLI errors)
 test: setup-test

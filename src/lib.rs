@@ -8,11 +8,13 @@
 pub mod brdf;
 pub mod compare;
 pub mod error;
+pub mod figures;
 pub mod mesh;
 pub mod output;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod sheet;
 pub mod vulkan;
 
 pub use error::{Error, Result};

@@ -5,7 +5,9 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
+use vk_render::figures::FIGURES;
 use vk_render::output::{write_image, OutputFormat};
+use vk_render::sheet::contact_sheet;
 use vk_render::vulkan::{list_devices, Instance};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 
@@ -33,19 +35,52 @@ struct Cli {
 enum Command {
     /// Render a scene file to a PNG (8-bit, after the output transform) or an EXR (linear float).
     Render(RenderArgs),
+    /// Render one image per value of a scene key and a labelled contact sheet of them (PNG).
+    Sweep(SweepArgs),
+    /// Render every figure of the practical and one labelled contact sheet per figure into a folder.
+    Figures(FiguresArgs),
     /// List the Vulkan devices and which one is used by default.
     Devices,
 }
 
 #[derive(Args)]
-struct RenderArgs {
+struct SweepArgs {
     /// The scene file (TOML, SCENE_FORMAT version 1).
     scene: PathBuf,
 
-    /// The output image: .png or .exr.
-    #[arg(short, long, value_name = "OUT")]
+    /// The dotted key to vary, e.g. material.grey.sigma.
+    #[arg(long, value_name = "KEY")]
+    param: String,
+
+    /// The values, separated by commas, e.g. 0,0.2,0.4,0.6.
+    #[arg(long, value_name = "V1,V2,...", value_delimiter = ',', required = true)]
+    values: Vec<String>,
+
+    /// The contact sheet (.png); each tile is written beside it as SHEET-VALUE.png.
+    #[arg(short, long, value_name = "SHEET")]
     output: PathBuf,
 
+    /// Tiles per row of the sheet.
+    #[arg(long, default_value_t = 4)]
+    columns: usize,
+
+    #[command(flatten)]
+    image: ImageArgs,
+}
+
+#[derive(Args)]
+struct FiguresArgs {
+    /// The folder to write into (created if needed).
+    #[arg(short, long, value_name = "DIR")]
+    output: PathBuf,
+
+    #[command(flatten)]
+    image: ImageArgs,
+}
+
+/// Options that override `[image]` and any other value of the scene(s).
+#[derive(Args)]
+struct ImageArgs {
     /// Image width in pixels (same as --set image.width=W).
     #[arg(long)]
     width: Option<i64>,
@@ -61,6 +96,33 @@ struct RenderArgs {
     /// Override one scene value by its dotted path, e.g. material.grey.kd=0.8 or light.0.power=30.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     overrides: Vec<Override>,
+}
+
+impl ImageArgs {
+    /// The shorthands as overrides, then the --set ones.
+    fn overrides(&self) -> Vec<Override> {
+        let mut overrides = Vec::new();
+        for (key, value) in [("width", self.width), ("height", self.height), ("samples", self.samples)] {
+            if let Some(value) = value {
+                overrides.push(Override::new(format!("image.{key}"), value));
+            }
+        }
+        overrides.extend(self.overrides.iter().cloned());
+        overrides
+    }
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// The scene file (TOML, SCENE_FORMAT version 1).
+    scene: PathBuf,
+
+    /// The output image: .png or .exr.
+    #[arg(short, long, value_name = "OUT")]
+    output: PathBuf,
+
+    #[command(flatten)]
+    image: ImageArgs,
 }
 
 fn main() -> ExitCode {
@@ -82,12 +144,12 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> anyhow::Result<()> {
+    let options = RendererOptions { device: cli.device, validate: cli.validate, ..Default::default() };
     match cli.command {
         Command::Devices => devices(cli.validate),
-        Command::Render(args) => {
-            let options = RendererOptions { device: cli.device, validate: cli.validate, ..Default::default() };
-            render(args, options)
-        }
+        Command::Render(args) => render(args, options),
+        Command::Sweep(args) => sweep(args, options),
+        Command::Figures(args) => figures(args, options),
     }
 }
 
@@ -114,13 +176,7 @@ fn devices(validate: bool) -> anyhow::Result<()> {
 }
 
 fn render(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
-    let mut overrides = Vec::new();
-    for (key, value) in [("width", args.width), ("height", args.height), ("samples", args.samples)] {
-        if let Some(value) = value {
-            overrides.push(Override::new(format!("image.{key}"), value));
-        }
-    }
-    overrides.extend(args.overrides);
+    let overrides = args.image.overrides();
     // Everything that can be checked without a device is checked before one is opened.
     let scene = Scene::load(&args.scene, &overrides)?;
     OutputFormat::for_path(&args.output)?;
@@ -129,4 +185,83 @@ fn render(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
     write_image(&image, &scene.image, &args.output)?;
     log::info!("wrote {}", args.output.display());
     Ok(())
+}
+
+/// One tile of a contact sheet: its scene, label and file.
+struct Tile {
+    scene: Scene,
+    label: String,
+    path: PathBuf,
+}
+
+fn sweep(args: SweepArgs, options: RendererOptions) -> anyhow::Result<()> {
+    if OutputFormat::for_path(&args.output)? != OutputFormat::Png {
+        anyhow::bail!("{}: a contact sheet is a .png image", args.output.display());
+    }
+    let stem = args.output.file_stem().unwrap_or_default().to_string_lossy().into_owned();
+    let short_key = args.param.rsplit('.').next().unwrap_or(&args.param).to_string();
+    // Every scene is loaded and checked before anything is rendered or written.
+    let mut tiles = Vec::new();
+    for value in &args.values {
+        let value = value.trim();
+        let mut overrides = args.image.overrides();
+        overrides.push(format!("{}={value}", args.param).parse().map_err(anyhow::Error::msg)?);
+        let scene = Scene::load(&args.scene, &overrides)?;
+        let path = args.output.with_file_name(format!("{stem}-{}.png", file_safe(value)));
+        tiles.push(Tile { scene, label: format!("{short_key} = {value}"), path });
+    }
+    let mut renderer = Renderer::new(options)?;
+    render_sheet(&mut renderer, &args.param, &tiles, args.columns, &args.output)
+}
+
+fn figures(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
+    std::fs::create_dir_all(&args.output)
+        .map_err(|e| anyhow::anyhow!("{}: cannot create the folder: {e}", args.output.display()))?;
+    let overrides = args.image.overrides();
+    let mut sheets = Vec::new();
+    for figure in FIGURES {
+        let mut tiles = Vec::new();
+        for image in figure.images {
+            let scene = image.scene(&overrides)?;
+            tiles.push(Tile { scene, label: image.label.to_string(), path: args.output.join(image.png_name()) });
+        }
+        sheets.push((figure, tiles));
+    }
+    // One device, one set of compiled shaders and pipelines for every image.
+    let mut renderer = Renderer::new(options)?;
+    for (figure, tiles) in &sheets {
+        let sheet = args.output.join(format!("{}.png", figure.name));
+        render_sheet(&mut renderer, figure.title, tiles, 4, &sheet)?;
+    }
+    Ok(())
+}
+
+/// Renders every tile, then writes each tile and the labelled contact sheet.
+fn render_sheet(
+    renderer: &mut Renderer,
+    title: &str,
+    tiles: &[Tile],
+    columns: usize,
+    sheet_path: &std::path::Path,
+) -> anyhow::Result<()> {
+    let mut images = Vec::new();
+    for tile in tiles {
+        let hdr = renderer.render(&tile.scene)?;
+        images.push((tile.label.clone(), hdr.to_rgb8(&tile.scene.image)));
+    }
+    for (tile, (_, image)) in tiles.iter().zip(&images) {
+        write_png(image, &tile.path)?;
+    }
+    write_png(&contact_sheet(Some(title), &images, columns), sheet_path)?;
+    println!("{}", sheet_path.display());
+    Ok(())
+}
+
+fn write_png(image: &image::RgbImage, path: &std::path::Path) -> anyhow::Result<()> {
+    image.save(path).map_err(|e| anyhow::anyhow!("{}: cannot write the image: {e}", path.display()))
+}
+
+/// A value as part of a file name: anything but letters, digits, '.', '-' and '_' becomes '_'.
+fn file_safe(value: &str) -> String {
+    value.chars().map(|c| if c.is_ascii_alphanumeric() || "._-".contains(c) { c } else { '_' }).collect()
 }

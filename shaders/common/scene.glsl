@@ -10,6 +10,7 @@ struct ObjectData {
     mat4 normal_matrix;  // inverse transpose of model (upper 3x3 used)
     Material material;
     uvec4 flags;         // x: two-sided (a plane has no inside: shade the side the camera sees)
+                         // y: a sphere, shaded on the exact surface (see forward.frag)
 };
 
 struct PointLight {

@@ -116,11 +116,12 @@ impl GpuObject {
     /// An object placed by `model`.
     pub fn new(object: &Object, model: Mat4) -> Self {
         let two_sided = matches!(object.shape, Shape::Plane { .. });
+        let exact_sphere = matches!(object.shape, Shape::Sphere { .. });
         Self {
             model: model.to_cols_array_2d(),
             normal_matrix: model.inverse().transpose().to_cols_array_2d(),
             material: GpuMaterial::from(&object.brdf),
-            flags: [u32::from(two_sided), 0, 0, 0],
+            flags: [u32::from(two_sided), u32::from(exact_sphere), 0, 0],
         }
     }
 }
