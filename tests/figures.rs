@@ -40,7 +40,7 @@ fn every_figure_image_matches_the_cpu_reference() {
         for image in figure.images {
             let scene = image.scene(&[]).unwrap();
             let name = image.file.trim_end_matches(".toml");
-            let c = check_against_reference(name, &scene, |c| c.mean_abs <= 0.05 && c.max <= 2);
+            let c = check_against_reference(name, &scene, |c| c.mean_abs <= 0.01 && c.max <= 1);
             eprintln!("{name}: {c}");
         }
     }
