@@ -13,9 +13,8 @@ vec3 half_vector(vec3 wi, vec3 wo) { return normalize(wi + wo); }
 // max(0, n . h)^s, the angle between n and the half vector replacing Phong's angle to the mirror direction.
 // Needs n.wi > 0 and n.wo > 0 (checked once by brdf_eval).
 vec3 blinn_phong_specular(vec3 n, vec3 wi, vec3 wo, vec3 ks, float shininess) {
-    float NoL = dot(n, wi);
     float NoH = max(dot(n, half_vector(wi, wo)), 0.0);
-    return ks * (pow_lobe(NoH, shininess) / max(NoL, MIN_COS_THETA_I));
+    return cosine_lobe(ks, NoH, shininess, dot(n, wi));
 }
 
 // Lambert(kd) + Blinn-Phong specular(ks, s).

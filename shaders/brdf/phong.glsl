@@ -20,13 +20,17 @@ float pow_lobe(float x, float s) {
     return s == 0.0 ? 1.0 : 0.0;
 }
 
-// Phong 1975, "Illumination for computer generated pictures": ks / cos(theta_i) * max(0, wo . r)^s, r the
-// mirror of wi. The division by cos(theta_i) is the course's, to make the lighting model a BRDF.
-// Needs n.wi > 0 and n.wo > 0 (checked once by brdf_eval).
-vec3 phong_specular(vec3 n, vec3 wi, vec3 wo, vec3 ks, float shininess) {
-    float NoL = dot(n, wi);
-    float cos_alpha = max(dot(wo, mirror(n, wi)), 0.0);
+// ks / cos(theta_i) * cos_alpha^s: the course's specular lobe, shared by Phong and Blinn-Phong, which differ
+// only in the angle alpha they measure. The division by cos(theta_i) makes the lighting model a BRDF.
+vec3 cosine_lobe(vec3 ks, float cos_alpha, float shininess, float NoL) {
     return ks * (pow_lobe(cos_alpha, shininess) / max(NoL, MIN_COS_THETA_I));
+}
+
+// Phong 1975, "Illumination for computer generated pictures": ks / cos(theta_i) * max(0, wo . r)^s, r the
+// mirror of wi. Needs n.wi > 0 and n.wo > 0 (checked once by brdf_eval).
+vec3 phong_specular(vec3 n, vec3 wi, vec3 wo, vec3 ks, float shininess) {
+    float cos_alpha = max(dot(wo, mirror(n, wi)), 0.0);
+    return cosine_lobe(ks, cos_alpha, shininess, dot(n, wi));
 }
 
 // The course's plastic: Lambert(kd) + Phong specular(ks, s).

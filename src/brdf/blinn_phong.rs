@@ -3,7 +3,7 @@
 use glam::Vec3;
 
 use super::lambert;
-use super::phong::{pow_lobe, MIN_COS_THETA_I};
+use super::phong::cosine_lobe;
 
 /// The half vector normalize(wi + wo); defined whenever both directions are above the surface.
 pub fn half_vector(wi: Vec3, wo: Vec3) -> Vec3 {
@@ -14,9 +14,8 @@ pub fn half_vector(wi: Vec3, wo: Vec3) -> Vec3 {
 /// pictures"): the angle between n and the half vector replaces Phong's angle to the mirror direction.
 /// Needs n.wi > 0 and n.wo > 0 (checked once by `Brdf::eval`).
 pub fn blinn_phong_specular(n: Vec3, wi: Vec3, wo: Vec3, ks: Vec3, shininess: f32) -> Vec3 {
-    let n_o_l = n.dot(wi);
     let n_o_h = n.dot(half_vector(wi, wo)).max(0.0);
-    ks * (pow_lobe(n_o_h, shininess) / n_o_l.max(MIN_COS_THETA_I))
+    cosine_lobe(ks, n_o_h, shininess, n.dot(wi))
 }
 
 /// Lambert(kd) + Blinn-Phong specular(ks, s).

@@ -18,7 +18,7 @@ pub use blinn_phong::{blinn_phong, blinn_phong_specular, half_vector};
 pub use cook_torrance::{cook_torrance, cook_torrance_specular, d_ggx, f_schlick, smith_schlick_k, v_smith_schlick};
 pub use lambert::lambert;
 pub use oren_nayar::{cos_phi_difference, oren_nayar, oren_nayar_a, oren_nayar_b};
-pub use phong::{mirror, phong, phong_specular, pow_lobe, MIN_COS_THETA_I};
+pub use phong::{cosine_lobe, mirror, phong, phong_specular, pow_lobe, MIN_COS_THETA_I};
 
 /// Which diffuse lobe a Cook-Torrance material uses under its specular lobe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

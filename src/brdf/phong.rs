@@ -24,13 +24,17 @@ pub fn pow_lobe(x: f32, s: f32) -> f32 {
     }
 }
 
-/// ks / cos(theta_i) * max(0, wo . r)^s, r the mirror of wi (Phong 1975, "Illumination for computer
-/// generated pictures"). The division by cos(theta_i) is the course's, to make the lighting model a BRDF.
-/// Needs n.wi > 0 and n.wo > 0 (checked once by `Brdf::eval`).
-pub fn phong_specular(n: Vec3, wi: Vec3, wo: Vec3, ks: Vec3, shininess: f32) -> Vec3 {
-    let n_o_l = n.dot(wi);
-    let cos_alpha = wo.dot(mirror(n, wi)).max(0.0);
+/// ks / cos(theta_i) * cos_alpha^s: the course's specular lobe, shared by Phong and Blinn-Phong, which differ
+/// only in the angle alpha they measure. The division by cos(theta_i) makes the lighting model a BRDF.
+pub fn cosine_lobe(ks: Vec3, cos_alpha: f32, shininess: f32, n_o_l: f32) -> Vec3 {
     ks * (pow_lobe(cos_alpha, shininess) / n_o_l.max(MIN_COS_THETA_I))
+}
+
+/// ks / cos(theta_i) * max(0, wo . r)^s, r the mirror of wi (Phong 1975, "Illumination for computer
+/// generated pictures"). Needs n.wi > 0 and n.wo > 0 (checked once by `Brdf::eval`).
+pub fn phong_specular(n: Vec3, wi: Vec3, wo: Vec3, ks: Vec3, shininess: f32) -> Vec3 {
+    let cos_alpha = wo.dot(mirror(n, wi)).max(0.0);
+    cosine_lobe(ks, cos_alpha, shininess, n.dot(wi))
 }
 
 /// Lambert(kd) + Phong specular(ks, s).

@@ -104,15 +104,12 @@ impl ProbePass {
                 device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout.raw, 0, &[set], &[]);
                 device.raw.cmd_push_constants(cmd, layout.raw, vk::ShaderStageFlags::COMPUTE, 0, &count.to_ne_bytes());
                 device.raw.cmd_dispatch(cmd, count.div_ceil(WORKGROUP_SIZE), 1, 1);
-                let to_host = [vk::BufferMemoryBarrier2::default()
-                    .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                    .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-                    .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                    .dst_access_mask(vk::AccessFlags2::HOST_READ)
-                    .buffer(output.raw)
-                    .size(vk::WHOLE_SIZE)];
-                device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().buffer_memory_barriers(&to_host));
             }
+            output.record_host_read_barrier(
+                cmd,
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            );
             Ok(())
         })?;
         Ok(read_vec3s(output.bytes()?, 16))

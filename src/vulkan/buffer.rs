@@ -103,6 +103,29 @@ impl Buffer {
     }
 }
 
+impl Buffer {
+    /// Makes writes by `stage` (with `access`) to this buffer visible to the host once the submission's fence
+    /// has signalled; record it last, before reading a `GpuToCpu` buffer.
+    pub fn record_host_read_barrier(
+        &self,
+        cmd: vk::CommandBuffer,
+        stage: vk::PipelineStageFlags2,
+        access: vk::AccessFlags2,
+    ) {
+        let barrier = [vk::BufferMemoryBarrier2::default()
+            .src_stage_mask(stage)
+            .src_access_mask(access)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)
+            .buffer(self.raw)
+            .size(vk::WHOLE_SIZE)];
+        // SAFETY: the command buffer is recording and the buffer outlives the submission (its owner waits).
+        unsafe {
+            self.device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().buffer_memory_barriers(&barrier));
+        }
+    }
+}
+
 impl Drop for Buffer {
     fn drop(&mut self) {
         // SAFETY: the owner guarantees the GPU no longer uses the buffer (renders wait for their fence).
