@@ -8,7 +8,7 @@ use clap::{Args, Parser, Subcommand};
 use vk_render::figures::FIGURES;
 use vk_render::output::{write_image, OutputFormat};
 use vk_render::sheet::contact_sheet;
-use vk_render::vulkan::{list_devices, Instance};
+use vk_render::vulkan::{list_devices, preferred_device, Instance};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 
 /// Renders classic BRDFs (Lambert, Oren-Nayar, Phong, Blinn-Phong, Cook-Torrance) through Vulkan.
@@ -156,12 +156,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
 fn devices(validate: bool) -> anyhow::Result<()> {
     let instance = Instance::new(validate)?;
     let devices = list_devices(&instance)?;
-    if devices.is_empty() {
+    let Some((_, preferred)) = preferred_device(&devices) else {
         anyhow::bail!("no Vulkan device was found. {}", vk_render::vulkan::INSTALL_HINT);
-    }
-    let default = vk_render::vulkan::Device::new(std::sync::Arc::new(instance), None).map(|d| d.info.index).ok();
+    };
     for (_, info) in &devices {
-        let marker = if Some(info.index) == default { "*" } else { " " };
+        let marker = if info.index == preferred.index { "*" } else { " " };
         println!(
             "{marker} {}: {} ({}, Vulkan {}) {}",
             info.index,

@@ -65,7 +65,7 @@ fn cook_torrance_by_hand() {
     // spec = D F G / 4 = 1.273240 F0.
     let metal = Brdf::CookTorrance { kd: f0, f0, roughness: 0.5, metalness: 1.0, diffuse: DiffuseModel::OrenNayar };
     assert!((d_ggx(N, N, 0.25) - 5.092_958).abs() < 1e-5);
-    assert!(close(metal.eval(N, N, N), 1.273_240 * f0, 1e-5));
+    assert!(close(metal.eval(N, N, N), 1.273_24 * f0, 1e-5));
     // wi at 60 degrees, wo = n, roughness 0.5, F0 = 0.04: h at 30 degrees, D = 0.225727,
     // k = 1.5^2/8 = 0.28125, G = 0.5/(0.5*0.71875+0.28125) * 1 = 0.780488, F = 0.04 + 0.96 (1-cos 30)^5
     // = 0.040041, spec = D F G / (4 * 0.5 * 1) = 0.00352719.

@@ -99,12 +99,11 @@ impl Device {
     /// the device lacks Vulkan 1.3 or a graphics queue.
     pub fn new(instance: Arc<Instance>, selector: Option<&str>) -> Result<Arc<Device>> {
         let devices = list_devices(&instance)?;
-        if devices.is_empty() {
-            return Err(Error::NoVulkan(format!("no Vulkan device was found. {}", super::instance::INSTALL_HINT)));
-        }
         let (physical, info) = match selector {
             Some(selector) => select(&devices, selector)?,
-            None => devices.iter().min_by_key(|(_, info)| info.rank()).cloned().expect("not empty"),
+            None => preferred_device(&devices).cloned().ok_or_else(|| {
+                Error::NoVulkan(format!("no Vulkan device was found. {}", super::instance::INSTALL_HINT))
+            })?,
         };
         if info.api_version < vk::API_VERSION_1_3 {
             return Err(Error::Device(format!(
@@ -232,6 +231,12 @@ impl Device {
         // SAFETY: the handle belongs to this device; naming is advisory, so a failure is ignored.
         let _ = unsafe { loader.set_debug_utils_object_name(&info) };
     }
+}
+
+/// The device used when none is named: a discrete GPU, else an integrated one, else a virtual one, else
+/// lavapipe (CPU); the first in the loader's order among equals.
+pub fn preferred_device(devices: &[(vk::PhysicalDevice, DeviceInfo)]) -> Option<&(vk::PhysicalDevice, DeviceInfo)> {
+    devices.iter().min_by_key(|(_, info)| info.rank())
 }
 
 /// Finds a device by index or by part of its name.

@@ -13,7 +13,7 @@ mod shader;
 
 pub use buffer::{Buffer, BufferDesc};
 pub use descriptor::DescriptorPool;
-pub use device::{list_devices, Device, DeviceInfo};
+pub use device::{list_devices, preferred_device, Device, DeviceInfo};
 pub use image::{subresource_range, Image, ImageDesc};
 pub use instance::{Instance, ValidationLog, INSTALL_HINT};
 pub use pipeline::{GraphicsPipelineDesc, Pipeline, PipelineLayout};
