@@ -49,6 +49,13 @@ fn line_of(path: &Path, needle: &str) -> String {
     format!("line {}", index + 1)
 }
 
+/// Figure 1 with `from` replaced by `to` must fail with every needle in its message.
+fn fails_after_edit(from: &'static str, to: &'static str, needles: &[&str]) {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), edited(from, to));
+    fails_with(&scene, &[], needles);
+}
+
 fn edited(from: &'static str, to: &'static str) -> impl Fn(&str) -> String {
     move |text: &str| {
         assert!(text.contains(from), "Figure 1 no longer holds {from:?}");
@@ -129,72 +136,84 @@ fn unknown_key_names_the_key_and_line() {
 
 #[test]
 fn wrong_type_names_the_key_and_value() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("power = 60.0", "power = \"bright\""));
-    fails_with(&scene, &[], &["scene.toml", "power = \"bright\"", "invalid type: string \"bright\""]);
+    fails_after_edit(
+        "power = 60.0",
+        "power = \"bright\"",
+        &["scene.toml", "power = \"bright\"", "invalid type: string \"bright\""],
+    );
 }
 
 #[test]
 fn undefined_material() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("material = \"grey\"", "material = \"gray\""));
-    fails_with(&scene, &[], &["scene.toml", "object.0.material = \"gray\"", "no [material.gray]", "grey, red"]);
+    fails_after_edit(
+        "material = \"grey\"",
+        "material = \"gray\"",
+        &["scene.toml", "object.0.material = \"gray\"", "no [material.gray]", "grey, red"],
+    );
 }
 
 #[test]
 fn unknown_brdf() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("brdf = \"lambert\"", "brdf = \"lambertian\""));
-    fails_with(&scene, &[], &["scene.toml", "material.grey.brdf = \"lambertian\"", "unknown brdf", "\"oren-nayar\""]);
+    fails_after_edit(
+        "brdf = \"lambert\"",
+        "brdf = \"lambertian\"",
+        &["scene.toml", "material.grey.brdf = \"lambertian\"", "unknown brdf", "\"oren-nayar\""],
+    );
 }
 
 #[test]
 fn a_parameter_of_another_brdf() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("kd = [0.5, 0.5, 0.5]", "kd = [0.5, 0.5, 0.5]\nsigma = 0.3"));
-    fails_with(&scene, &[], &["scene.toml", "material.grey.sigma", "not a parameter of brdf \"lambert\""]);
+    fails_after_edit(
+        "kd = [0.5, 0.5, 0.5]",
+        "kd = [0.5, 0.5, 0.5]\nsigma = 0.3",
+        &["scene.toml", "material.grey.sigma", "not a parameter of brdf \"lambert\""],
+    );
 }
 
 #[test]
 fn out_of_range_reflectance() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("kd = [0.5, 0.5, 0.5]", "kd = [0.5, 1.5, 0.5]"));
-    fails_with(&scene, &[], &["scene.toml", "material.grey.kd = [0.5, 1.5, 0.5]", "[0, 1]"]);
+    fails_after_edit(
+        "kd = [0.5, 0.5, 0.5]",
+        "kd = [0.5, 1.5, 0.5]",
+        &["scene.toml", "material.grey.kd = [0.5, 1.5, 0.5]", "[0, 1]"],
+    );
 }
 
 #[test]
 fn negative_radius() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("radius = 1.0", "radius = -1.0"));
-    fails_with(&scene, &[], &["scene.toml", "object.0.radius = -1", "greater than 0"]);
+    fails_after_edit("radius = 1.0", "radius = -1.0", &["scene.toml", "object.0.radius = -1", "greater than 0"]);
 }
 
 #[test]
 fn zero_length_normal() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("normal = [0.0, 1.0, 0.0]", "normal = [0.0, 0.0, 0.0]"));
-    fails_with(&scene, &[], &["scene.toml", "object.1.normal = [0.0, 0.0, 0.0]", "zero length"]);
+    fails_after_edit(
+        "normal = [0.0, 1.0, 0.0]",
+        "normal = [0.0, 0.0, 0.0]",
+        &["scene.toml", "object.1.normal = [0.0, 0.0, 0.0]", "zero length"],
+    );
 }
 
 #[test]
 fn zero_length_up() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("up = [0.0, 1.0, 0.0]", "up = [0, 0, 0]"));
-    fails_with(&scene, &[], &["scene.toml", "camera.up = [0.0, 0.0, 0.0]", "zero length"]);
+    fails_after_edit(
+        "up = [0.0, 1.0, 0.0]",
+        "up = [0, 0, 0]",
+        &["scene.toml", "camera.up = [0.0, 0.0, 0.0]", "zero length"],
+    );
 }
 
 #[test]
 fn look_at_equal_to_position() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("look_at = [0.0, 0.0, 1.0]", "look_at = [0.0, 0.0, 0.0]"));
-    fails_with(&scene, &[], &["scene.toml", "camera.look_at = [0.0, 0.0, 0.0]", "equal to camera.position"]);
+    fails_after_edit(
+        "look_at = [0.0, 0.0, 1.0]",
+        "look_at = [0.0, 0.0, 0.0]",
+        &["scene.toml", "camera.look_at = [0.0, 0.0, 0.0]", "equal to camera.position"],
+    );
 }
 
 #[test]
 fn zero_width() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("width = 600", "width = 0"));
-    fails_with(&scene, &[], &["scene.toml", "image.width = 0", "at least 1"]);
+    fails_after_edit("width = 600", "width = 0", &["scene.toml", "image.width = 0", "at least 1"]);
 }
 
 #[test]
@@ -206,9 +225,11 @@ fn height_above_the_device_limit() {
 
 #[test]
 fn samples_the_device_does_not_support() {
-    let folder = temp_dir();
-    let scene = scene_file(folder.path(), edited("samples = 4", "samples = 64"));
-    fails_with(&scene, &[], &["scene.toml", "image.samples = 64", "not supported by device", "it supports 1"]);
+    fails_after_edit(
+        "samples = 4",
+        "samples = 64",
+        &["scene.toml", "image.samples = 64", "not supported by device", "it supports 1"],
+    );
 }
 
 #[test]
