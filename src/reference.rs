@@ -1,10 +1,14 @@
 //! An independent CPU reference: one ray per pixel centre through the same camera, exact spheres and
-//! planes, shading with the Rust BRDF mirror. It shares no code with the GPU path but the scene, the
-//! BRDF mirror and the output transform, so the rasterized images can be checked against it.
+//! planes, meshes through parry3d's ray queries, hard shadows by shadow rays, shading with the Rust BRDF
+//! mirror. It shares nothing with the GPU path but the scene, the BRDF mirror and the output transform,
+//! so the rasterized images can be checked against it.
 
-use glam::Vec3;
+use glam::{Mat3, Vec3};
+use parry3d::query::{Ray, RayCast};
+use parry3d::shape::TriMesh;
 
 use crate::error::{Error, Result};
+use crate::mesh::place_objects;
 use crate::output::HdrImage;
 use crate::scene::{Scene, Shape};
 
@@ -14,19 +18,63 @@ pub struct ReferenceImage {
     pub object_ids: Vec<Option<usize>>,
 }
 
-/// Ray-traces the scene (no shadows yet: the rasterizer has none either).
+impl ReferenceImage {
+    /// The object-id map as a picture: black background, one distinct colour per object.
+    pub fn object_id_picture(&self) -> image::RgbImage {
+        let colour = |id: Option<usize>| match id {
+            None => [0, 0, 0],
+            // Golden-ratio hue steps keep neighbouring ids far apart in colour.
+            Some(i) => hue((i as f32 * 0.618_034 + 0.1).fract()),
+        };
+        let bytes = self.object_ids.iter().flat_map(|&id| colour(id)).collect();
+        image::RgbImage::from_raw(self.image.width, self.image.height, bytes).unwrap_or_default()
+    }
+}
+
+/// A saturated colour of hue `h` in [0, 1).
+fn hue(h: f32) -> [u8; 3] {
+    let channel = |offset: f32| {
+        let x = ((h + offset).fract() * 6.0 - 3.0).abs() - 1.0;
+        (x.clamp(0.0, 1.0) * 255.0) as u8
+    };
+    [channel(0.0), channel(2.0 / 3.0), channel(1.0 / 3.0)]
+}
+
+/// The smallest cosine between the view direction and a mesh's interpolated normal, as in forward.frag:
+/// at a silhouette the interpolated normal can face away from a camera that still sees the mesh, and both
+/// renderers bend it back over the horizon the same way.
+const MIN_NOV: f32 = 1e-4;
+
+/// An object as the ray tracer sees it.
+enum Geometry {
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    Plane {
+        point: Vec3,
+        normal: Vec3,
+    },
+    /// A triangle mesh in world space, with its vertex normals for smooth shading.
+    Mesh {
+        triangles: TriMesh,
+        normals: Vec<Vec3>,
+    },
+}
+
+/// A ray's nearest hit: the object, the distance, and the shading normal (before facing the viewer).
+struct Hit {
+    object: usize,
+    t: f32,
+    normal: Vec3,
+}
+
+/// Ray-traces the scene.
 ///
 /// # Errors
-/// `Error::Scene` if the scene holds a mesh, which the reference cannot trace yet.
+/// `Error::Mesh` if an OBJ file cannot be loaded or holds no triangles.
 pub fn render(scene: &Scene) -> Result<ReferenceImage> {
-    let unsupported = |message: String| Error::Scene { file: scene.source.clone(), message };
-    for (index, object) in scene.objects.iter().enumerate() {
-        if matches!(object.shape, Shape::Mesh { .. }) {
-            return Err(unsupported(format!(
-                "object.{index}.shape = \"mesh\": not supported by the CPU reference yet"
-            )));
-        }
-    }
+    let geometry = build_geometry(scene)?;
     let (width, height) = (scene.image.width, scene.image.height);
     let camera = &scene.camera;
     // The course's camera frame: w points backwards, u to the image's right, v up.
@@ -43,10 +91,11 @@ pub fn render(scene: &Scene) -> Result<ReferenceImage> {
             let sx = (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * half_width;
             let sy = (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * half_height;
             let direction = (sx * u + sy * v - w).normalize();
-            match nearest_hit(scene, camera.position, direction) {
-                Some((index, t)) => {
-                    pixels.push(shade(scene, index, camera.position + t * direction, -direction));
-                    object_ids.push(Some(index));
+            match nearest_hit(&geometry, camera.position, direction, f32::INFINITY) {
+                Some(hit) => {
+                    let p = camera.position + hit.t * direction;
+                    pixels.push(shade(scene, &geometry, &hit, p, -direction));
+                    object_ids.push(Some(hit.object));
                 }
                 None => {
                     pixels.push(scene.image.background);
@@ -58,20 +107,55 @@ pub fn render(scene: &Scene) -> Result<ReferenceImage> {
     Ok(ReferenceImage { image: HdrImage { width, height, pixels }, object_ids })
 }
 
-/// The nearest object along the ray and the distance to it.
-fn nearest_hit(scene: &Scene, origin: Vec3, direction: Vec3) -> Option<(usize, f32)> {
+/// Exact spheres and planes; meshes loaded and placed in world space.
+fn build_geometry(scene: &Scene) -> Result<Vec<Geometry>> {
+    let placed = place_objects(scene)?;
     scene
         .objects
         .iter()
+        .zip(placed)
         .enumerate()
-        .filter_map(|(index, object)| intersect(&object.shape, origin, direction).map(|t| (index, t)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(index, (object, placed))| {
+            Ok(match object.shape {
+                Shape::Sphere { center, radius } => Geometry::Sphere { center, radius },
+                Shape::Plane { point, normal } => Geometry::Plane { point, normal },
+                Shape::Mesh { ref path, .. } => {
+                    let normal_matrix = Mat3::from_mat4(placed.model).inverse().transpose();
+                    let positions = placed
+                        .mesh
+                        .vertices
+                        .iter()
+                        .map(|v| placed.model.transform_point3(Vec3::from_slice(&v.position[..3])));
+                    let normals =
+                        placed.mesh.vertices.iter().map(|v| (normal_matrix * Vec3::from(v.normal)).normalize());
+                    let indices = placed.mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+                    let triangles = TriMesh::new(positions.collect(), indices).map_err(|e| Error::Mesh {
+                        scene: scene.source.clone(),
+                        key: format!("object.{index}.path"),
+                        value: path.display().to_string(),
+                        message: format!("the reference cannot trace it: {e}"),
+                    })?;
+                    Geometry::Mesh { triangles, normals: normals.collect() }
+                }
+            })
+        })
+        .collect()
 }
 
-/// The distance to the first intersection in front of the origin.
-fn intersect(shape: &Shape, origin: Vec3, direction: Vec3) -> Option<f32> {
-    match *shape {
-        Shape::Sphere { center, radius } => {
+/// The nearest hit closer than `max_t`.
+fn nearest_hit(geometry: &[Geometry], origin: Vec3, direction: Vec3, max_t: f32) -> Option<Hit> {
+    geometry
+        .iter()
+        .enumerate()
+        .filter_map(|(object, g)| intersect(g, origin, direction, max_t).map(|(t, normal)| Hit { object, t, normal }))
+        .min_by(|a, b| a.t.total_cmp(&b.t))
+}
+
+/// The first intersection in (1e-4, max_t) and the shading normal there.
+fn intersect(geometry: &Geometry, origin: Vec3, direction: Vec3, max_t: f32) -> Option<(f32, Vec3)> {
+    const MIN_T: f32 = 1e-4;
+    match *geometry {
+        Geometry::Sphere { center, radius } => {
             let oc = origin - center;
             let b = oc.dot(direction);
             let c = oc.length_squared() - radius * radius;
@@ -80,42 +164,125 @@ fn intersect(shape: &Shape, origin: Vec3, direction: Vec3) -> Option<f32> {
                 return None;
             }
             let root = discriminant.sqrt();
-            [-b - root, -b + root].into_iter().find(|&t| t > 1e-4)
+            let t = [-b - root, -b + root].into_iter().find(|&t| t > MIN_T && t < max_t)?;
+            Some((t, (origin + t * direction - center) / radius))
         }
-        Shape::Plane { point, normal } => {
+        Geometry::Plane { point, normal } => {
             let denominator = normal.dot(direction);
             if denominator.abs() < 1e-12 {
                 return None;
             }
-            Some((point - origin).dot(normal) / denominator).filter(|&t| t > 1e-4)
+            let t = (point - origin).dot(normal) / denominator;
+            (t > MIN_T && t < max_t).then_some((t, normal))
         }
-        Shape::Mesh { .. } => None,
+        Geometry::Mesh { ref triangles, ref normals } => {
+            let hit = triangles.cast_local_ray_and_get_normal(&Ray::new(origin, direction), max_t, false)?;
+            let t = hit.time_of_impact;
+            if t <= MIN_T {
+                return None;
+            }
+            let [a, b, c] = triangles.indices()[hit.subshape as usize].map(|i| i as usize);
+            let vertices = triangles.vertices();
+            let weights = barycentric(origin + t * direction, vertices[a], vertices[b], vertices[c]);
+            let normal = weights.x * normals[a] + weights.y * normals[b] + weights.z * normals[c];
+            Some((t, normal.normalize_or(hit.normal)))
+        }
     }
 }
 
-/// Direct lighting at `p` on object `index`, seen from direction `wo`.
-fn shade(scene: &Scene, index: usize, p: Vec3, wo: Vec3) -> Vec3 {
-    let object = &scene.objects[index];
-    let n = match object.shape {
-        Shape::Sphere { center, .. } => (p - center).normalize(),
+/// The barycentric coordinates of `p` in the triangle (a, b, c).
+fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (ab.dot(ab), ab.dot(ac), ac.dot(ac));
+    let (d20, d21) = (ap.dot(ab), ap.dot(ac));
+    let denominator = d00 * d11 - d01 * d01;
+    if denominator.abs() < f32::MIN_POSITIVE {
+        return Vec3::new(1.0, 0.0, 0.0);
+    }
+    let v = (d11 * d20 - d01 * d21) / denominator;
+    let w = (d00 * d21 - d01 * d20) / denominator;
+    Vec3::new(1.0 - v - w, v, w)
+}
+
+/// Direct lighting at `p`, seen from direction `wo`, with hard shadows.
+fn shade(scene: &Scene, geometry: &[Geometry], hit: &Hit, p: Vec3, wo: Vec3) -> Vec3 {
+    let object = &scene.objects[hit.object];
+    let mut n = hit.normal;
+    match geometry[hit.object] {
         // A plane is seen from either side: its normal faces the viewer.
-        Shape::Plane { normal, .. } => normal * normal.dot(wo).signum(),
-        // Refused before tracing; `intersect` never hits one.
-        Shape::Mesh { .. } => return Vec3::ZERO,
-    };
+        Geometry::Plane { .. } => n *= n.dot(wo).signum(),
+        Geometry::Mesh { .. } if n.dot(wo) < MIN_NOV => n = (n + (MIN_NOV - n.dot(wo)) * wo).normalize(),
+        _ => {}
+    }
+    // Shadow rays leave from just above the surface so that it does not shadow itself.
+    let origin = p + n * (1e-4 * p.abs().max_element().max(1.0));
     scene
         .lights
         .iter()
         .map(|light| {
             let to_light = light.position - p;
             let d2 = to_light.length_squared();
-            let wi = to_light / d2.sqrt();
+            let distance = d2.sqrt();
+            let wi = to_light / distance;
             let cos = n.dot(wi);
             if cos <= 0.0 {
                 return Vec3::ZERO;
             }
-            let f = object.brdf.eval(n, wi, wo);
-            f * light.color * light.power / d2 * cos
+            if light.shadows && nearest_hit(geometry, origin, wi, (light.position - origin).length()).is_some() {
+                return Vec3::ZERO;
+            }
+            object.brdf.eval(n, wi, wo) * light.color * light.power / d2 * cos
         })
         .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+
+    /// A small sphere between a light and the plane, seen from above.
+    fn shadow_scene(shadows: bool) -> Scene {
+        let text = format!(
+            "[image]\nwidth = 64\nheight = 64\nsamples = 1\n\
+             [camera]\nposition = [0, 5, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, 1]\n\
+             [[light]]\nposition = [0, 4, 0]\npower = 16\nshadows = {shadows}\n\
+             [material.m]\nbrdf = \"lambert\"\nkd = 1\n\
+             [[object]]\nshape = \"plane\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\nmaterial = \"m\"\n\
+             [[object]]\nshape = \"sphere\"\ncenter = [0.8, 2, 0]\nradius = 0.5\nmaterial = \"m\"\n"
+        );
+        Scene::parse(&text, Path::new("shadow.toml"), &[]).unwrap()
+    }
+
+    #[test]
+    fn shadow_rays_darken_what_the_light_cannot_see() {
+        // The light at height 4 casts the sphere (height 2, x = 0.8, radius 0.5) onto the plane as an ellipse
+        // of semi-axes 1.1 and 1.0 around x = 1.7, some 430 pixels at 11 pixels a unit, of which the sphere
+        // itself hides more than half from the camera above.
+        let lit = render(&shadow_scene(false)).unwrap();
+        let shadowed = render(&shadow_scene(true)).unwrap();
+        let (mut darkened, mut unchanged) = (0, 0);
+        for (i, (a, b)) in lit.image.pixels.iter().zip(&shadowed.image.pixels).enumerate() {
+            if lit.object_ids[i] != Some(0) {
+                continue;
+            }
+            if b.x == 0.0 && a.x > 0.0 {
+                darkened += 1;
+            } else if a == b {
+                unchanged += 1;
+            }
+        }
+        assert!((100..430).contains(&darkened), "{darkened} plane pixels in shadow");
+        assert_eq!(darkened + unchanged, lit.object_ids.iter().filter(|id| **id == Some(0)).count());
+        // Straight under the light, at the image centre, the plane is lit: 1/pi * 16/16 * 1.
+        let centre = shadowed.image.at(32, 32);
+        assert!((centre.x - std::f32::consts::FRAC_1_PI).abs() < 2e-3, "{centre}");
+    }
+
+    #[test]
+    fn barycentric_coordinates_by_hand() {
+        let (a, b, c) = (Vec3::ZERO, Vec3::X, Vec3::Y);
+        assert!(barycentric(Vec3::new(0.25, 0.5, 0.0), a, b, c).abs_diff_eq(Vec3::new(0.25, 0.25, 0.5), 1e-6));
+    }
 }

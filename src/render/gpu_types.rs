@@ -1,5 +1,6 @@
 //! The forward pass's GPU data, byte for byte as `shaders/common/scene.glsl` declares it.
 
+use glam::camera::rh::proj::vulkan;
 use glam::{Mat4, Vec3};
 
 use crate::brdf::{Brdf, DiffuseModel};
@@ -64,10 +65,9 @@ impl GpuFrame {
     ///
     /// Reverse-Z with an infinite far plane: depth is near / distance, 1 at the near plane and 0 at infinity,
     /// so the plane's vertices at infinity land exactly on the far end and float depth keeps its precision.
-    /// The y axis is flipped because Vulkan's clip space has y pointing down the image.
+    /// glam's Vulkan projection also flips y, Vulkan's clip space having y pointing down the image.
     pub fn new(camera: &Camera, aspect: f32, lights: &[PointLight], near: f32) -> Self {
-        let mut projection = Mat4::perspective_infinite_reverse_rh(camera.fov_y.to_radians(), aspect, near);
-        projection.y_axis.y = -projection.y_axis.y;
+        let projection = vulkan::perspective_infinite_reverse(camera.fov_y.to_radians(), aspect, near);
         Self {
             view_projection: (projection * camera.view()).to_cols_array_2d(),
             camera_position: camera.position.extend(1.0).into(),

@@ -77,7 +77,7 @@ impl Camera {
     /// World to camera: glam's right-handed look-at, whose image-right axis is normalize(cross(forward, up)),
     /// the same as the course's u = normalize(cross(up, w)) with w = normalize(position - look_at).
     pub fn view(&self) -> Mat4 {
-        Mat4::look_at_rh(self.position, self.look_at, self.up)
+        glam::camera::rh::view::look_at_mat4(self.position, self.look_at, self.up)
     }
 }
 
