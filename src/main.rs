@@ -35,12 +35,31 @@ struct Cli {
 enum Command {
     /// Render a scene file to a PNG (8-bit, after the output transform) or an EXR (linear float).
     Render(RenderArgs),
+    /// Ray-trace a scene on the CPU (the independent reference the tests compare the GPU with).
+    Reference(ReferenceArgs),
     /// Render one image per value of a scene key and a labelled contact sheet of them (PNG).
     Sweep(SweepArgs),
     /// Render every figure of the practical and one labelled contact sheet per figure into a folder.
     Figures(FiguresArgs),
     /// List the Vulkan devices and which one is used by default.
     Devices,
+}
+
+#[derive(Args)]
+struct ReferenceArgs {
+    /// The scene file (TOML, SCENE_FORMAT version 1).
+    scene: PathBuf,
+
+    /// The output image: .png or .exr.
+    #[arg(short, long, value_name = "OUT")]
+    output: PathBuf,
+
+    /// Also write the object-id map (.png): one colour per object, black where no object is seen.
+    #[arg(long, value_name = "IDS")]
+    ids: Option<PathBuf>,
+
+    #[command(flatten)]
+    image: ImageArgs,
 }
 
 #[derive(Args)]
@@ -148,6 +167,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Devices => devices(cli.validate),
         Command::Render(args) => render(args, options),
+        Command::Reference(args) => reference(args),
         Command::Sweep(args) => sweep(args, options),
         Command::Figures(args) => figures(args, options),
     }
@@ -183,6 +203,22 @@ fn render(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
     let image = renderer.render(&scene)?;
     write_image(&image, &scene.image, &args.output)?;
     log::info!("wrote {}", args.output.display());
+    Ok(())
+}
+
+fn reference(args: ReferenceArgs) -> anyhow::Result<()> {
+    let scene = Scene::load(&args.scene, &args.image.overrides())?;
+    OutputFormat::for_path(&args.output)?;
+    if let Some(ids) = &args.ids {
+        if OutputFormat::for_path(ids)? != OutputFormat::Png {
+            anyhow::bail!("{}: the object-id map is a .png image", ids.display());
+        }
+    }
+    let traced = vk_render::reference::render(&scene)?;
+    write_image(&traced.image, &scene.image, &args.output)?;
+    if let Some(ids) = &args.ids {
+        write_png(&traced.object_id_picture(), ids)?;
+    }
     Ok(())
 }
 

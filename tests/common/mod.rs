@@ -42,17 +42,38 @@ pub fn scene_from_text(name: &str, text: &str) -> Scene {
     Scene::parse(text, &root().join("tests").join(format!("{name}.toml")), &[]).expect("valid scene")
 }
 
+/// The GPU-against-reference acceptance: mean absolute error <= 1 level, 99th percentile <= 4 levels, at
+/// most 1% of the pixels more than 3 levels off (away from silhouettes).
+pub fn acceptable(c: &Comparison) -> bool {
+    c.mean_abs <= 1.0 && c.p99 <= 4 && c.fraction_over_3 <= 0.01
+}
+
+/// Loads a scene of tests/scenes/.
+pub fn test_scene(name: &str) -> Scene {
+    Scene::load(&root().join("tests/scenes").join(name), &[]).expect("valid scene")
+}
+
 /// Renders on the GPU and with the CPU reference, and compares away from silhouettes (2 px band).
 /// On failure of `accept`, writes the images under target/test-output/ and panics with their paths.
 pub fn check_against_reference(name: &str, scene: &Scene, accept: impl Fn(&Comparison) -> bool) -> Comparison {
     let gpu = render(scene).to_rgb8(&scene.image);
+    compare_with_reference(name, scene, &gpu, accept)
+}
+
+/// Compares an 8-bit image with the reference of `scene`, as [`check_against_reference`].
+pub fn compare_with_reference(
+    name: &str,
+    scene: &Scene,
+    gpu: &image::RgbImage,
+    accept: impl Fn(&Comparison) -> bool,
+) -> Comparison {
     let reference = reference::render(scene).expect("the reference renders this scene");
     let expected = reference.image.to_rgb8(&scene.image);
     let band = silhouette_band(&reference.object_ids, scene.image.width, scene.image.height, 2);
-    let comparison = compare(&gpu, &expected, &band);
+    let comparison = compare(gpu, &expected, &band);
     if !accept(&comparison) {
         let folder = root().join("target/test-output");
-        let paths = write_failure_images(&folder, name, &gpu, &expected, &band).expect("write failure images");
+        let paths = write_failure_images(&folder, name, gpu, &expected, &band).expect("write failure images");
         let list: Vec<_> = paths.iter().map(|p| p.display().to_string()).collect();
         panic!("{name}: GPU differs from the CPU reference: {comparison}\nsee {}", list.join(", "));
     }
