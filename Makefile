@@ -10,7 +10,7 @@ CARGO ?= cargo
 BIN := target/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test clean
+.PHONY: all setup setup-test build render test bless clean
 
 all: render
 
@@ -34,6 +34,10 @@ render: build
 ## test: every test (unit, shader compilation, GPU renders with validation, CLI errors)
 test: setup-test
 	$(CARGO) test --release --locked
+
+## bless: rewrite the golden images of tests/golden/ from this device's renders (on purpose: review the diff)
+bless: setup-test
+	VK_RENDER_BLESS=1 $(CARGO) test --release --locked --test golden -- images_match_the_golden_images
 
 clean:
 	$(CARGO) clean
