@@ -339,3 +339,23 @@ fn no_vulkan_driver_says_how_to_install_lavapipe() {
     assert!(stderr.contains("mesa-vulkan-drivers") && stderr.contains("lavapipe"), "{stderr}");
     assert!(!out.exists());
 }
+
+#[test]
+fn reference_writes_the_ray_traced_image_and_the_object_ids() {
+    let folder = temp_dir();
+    let (out, ids) = (folder.path().join("ref.png"), folder.path().join("ids.png"));
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let output = Command::new(env!("CARGO_BIN_EXE_vk-render"))
+        .args(["reference", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--ids", ids.to_str().unwrap()])
+        .args(["--width", "150", "--height", "100"])
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let image = image::open(&out).unwrap().into_rgb8();
+    assert_eq!(image.get_pixel(75, 50).0, [152, 152, 152]);
+    let ids = image::open(&ids).unwrap().into_rgb8();
+    // Background black; sphere and plane in two other colours.
+    let (sky, sphere, plane) = (ids.get_pixel(2, 2).0, ids.get_pixel(75, 50).0, ids.get_pixel(2, 97).0);
+    assert_eq!(sky, [0, 0, 0]);
+    assert!(sphere != sky && plane != sky && sphere != plane, "{sky:?} {sphere:?} {plane:?}");
+}
