@@ -165,6 +165,8 @@ mod tests {
             tonemap: Tonemap::Reinhard,
             exposure: 2.0,
             encoding: Encoding::Linear,
+            shadow_map_size: 16,
+            shadow_filter: crate::scene::ShadowFilter::Hard,
         };
         let hdr = HdrImage { width: 1, height: 1, pixels: vec![Vec3::new(0.5, 1.0, 0.0)] };
         // 0.5 * 2 = 1 -> 0.5 -> 127; 1 * 2 = 2 -> 2/3 -> 170

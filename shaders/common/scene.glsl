@@ -16,17 +16,36 @@ struct ObjectData {
 struct PointLight {
     vec4 position;   // xyz
     vec4 radiance;   // rgb = colour * power: incident radiance at distance d is radiance / d^2
+    ivec4 shadow;    // x: the light's cube in shadow_maps, or -1 when it casts no shadows
 };
 
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_projection;
     vec4 camera_position;
     uint light_count;
+    float shadow_texel_angle;  // 2 / shadow_map_size: a texel's angle at the centre of a cube face
+    uint shadow_filter;        // 0: hard, 1: PCF
 } frame;
 
 layout(set = 0, binding = 1, std430) readonly buffer Lights { PointLight lights[]; };
 layout(set = 0, binding = 2, std430) readonly buffer Objects { ObjectData objects[]; };
+// Six view-projections per shadow cube, in Vulkan's face order (+x, -x, +y, -y, +z, -z).
+layout(set = 0, binding = 3, std430) readonly buffer ShadowViews { mat4 shadow_views[]; };
+// Distance from each light to the nearest surface, one cube per shadow-casting light.
+layout(set = 0, binding = 4) uniform samplerCubeArray shadow_maps;
 
-layout(push_constant) uniform Draw { uint object_index; } draw;
+// light_index and face: the light and the face of its shadow cube that the shadow pass draws (unused by
+// the forward pass).
+layout(push_constant) uniform Draw { uint object_index; uint light_index; uint face; } draw;
+
+// The world position of a fragment from its interpolated homogeneous position, or false past 1e7 units
+// (towards the plane's horizon, where w tends to 0 and dividing would overflow).
+bool world_point(vec4 homogeneous, out vec3 p) {
+    if (homogeneous.w <= 1e-7 * length(homogeneous.xyz)) {
+        return false;
+    }
+    p = homogeneous.xyz / homogeneous.w;
+    return true;
+}
 
 #endif

@@ -1,51 +1,40 @@
-//! The forward pass: its pipeline layout, one pipeline per sample count, and the recording of a frame.
+//! The forward pass: one pipeline per sample count, shading every object against every light.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use ash::vk;
 
+use super::passes::{vertex_input, PassTargets};
 use crate::error::Result;
-use crate::mesh::Vertex;
 use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderCompiler};
 
 /// The HDR colour format: 32-bit float, so that the course's truncation to 8 bits sees exact values.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// The forward pass's compiled shaders, layout and pipelines, made once per renderer.
+/// The forward pass's compiled shaders and pipelines, made once per renderer.
 pub struct ForwardPass {
     vertex_spirv: Vec<u32>,
     fragment_spirv: Vec<u32>,
-    pub layout: Arc<PipelineLayout>,
+    layout: Arc<PipelineLayout>,
     pipelines: HashMap<vk::SampleCountFlags, Pipeline>,
     device: Arc<Device>,
 }
 
 impl ForwardPass {
-    /// Compiles the forward shaders and makes the pipeline layout.
+    /// Compiles the forward shaders.
     ///
     /// # Errors
-    /// `Error::Shader` if a shader does not compile, `Error::Vulkan` if the layout is refused.
-    pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler) -> Result<Self> {
-        let vertex_spirv = compiler.compile("forward.vert")?;
-        let fragment_spirv = compiler.compile("forward.frag")?;
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let binding = |index: u32, kind: vk::DescriptorType| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(index)
-                .descriptor_type(kind)
-                .descriptor_count(1)
-                .stage_flags(stages)
-        };
-        let bindings = [
-            binding(0, vk::DescriptorType::UNIFORM_BUFFER),
-            binding(1, vk::DescriptorType::STORAGE_BUFFER),
-            binding(2, vk::DescriptorType::STORAGE_BUFFER),
-        ];
-        let push = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: 4 }];
-        let layout = device.create_pipeline_layout(&[&bindings], &push, "forward layout")?;
-        Ok(Self { vertex_spirv, fragment_spirv, layout, pipelines: HashMap::new(), device: device.clone() })
+    /// `Error::Shader` if a shader does not compile.
+    pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler, layout: &Arc<PipelineLayout>) -> Result<Self> {
+        Ok(Self {
+            vertex_spirv: compiler.compile("forward.vert")?,
+            fragment_spirv: compiler.compile("forward.frag")?,
+            layout: layout.clone(),
+            pipelines: HashMap::new(),
+            device: device.clone(),
+        })
     }
 
     /// The pipeline for `samples`, built the first time that count is asked for.
@@ -56,25 +45,7 @@ impl ForwardPass {
         if !self.pipelines.contains_key(&samples) {
             let vertex = self.device.create_shader_module(&self.vertex_spirv, "forward.vert")?;
             let fragment = self.device.create_shader_module(&self.fragment_spirv, "forward.frag")?;
-            let bindings = [vk::VertexInputBindingDescription {
-                binding: 0,
-                stride: std::mem::size_of::<Vertex>() as u32,
-                input_rate: vk::VertexInputRate::VERTEX,
-            }];
-            let attributes = [
-                vk::VertexInputAttributeDescription {
-                    location: 0,
-                    binding: 0,
-                    format: vk::Format::R32G32B32A32_SFLOAT,
-                    offset: std::mem::offset_of!(Vertex, position) as u32,
-                },
-                vk::VertexInputAttributeDescription {
-                    location: 1,
-                    binding: 0,
-                    format: vk::Format::R32G32B32_SFLOAT,
-                    offset: std::mem::offset_of!(Vertex, normal) as u32,
-                },
-            ];
+            let (bindings, attributes) = vertex_input();
             let desc = GraphicsPipelineDesc {
                 vertex: &vertex,
                 fragment: &fragment,
@@ -93,4 +64,37 @@ impl ForwardPass {
         }
         Ok(&self.pipelines[&samples])
     }
+}
+
+/// Begins dynamic rendering into the colour target (cleared to the background; resolved to `resolved`
+/// when multisampled, the float resolve averaging the samples as the course averages its pixel samples)
+/// and the depth target (cleared to 0, the far end in reverse-Z).
+pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets, background: [f32; 4]) {
+    let mut color = vk::RenderingAttachmentInfo::default()
+        .image_view(targets.color)
+        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::STORE)
+        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: background } });
+    if let Some(resolved) = targets.resolve {
+        color = color
+            .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+            .resolve_image_view(resolved)
+            .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE);
+    }
+    let colors = [color];
+    let depth = vk::RenderingAttachmentInfo::default()
+        .image_view(targets.depth)
+        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::DONT_CARE)
+        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
+    let rendering = vk::RenderingInfo::default()
+        .render_area(targets.area())
+        .layer_count(1)
+        .color_attachments(&colors)
+        .depth_attachment(&depth);
+    // SAFETY: the command buffer is recording; the views outlive the submission.
+    unsafe { device.raw.cmd_begin_rendering(cmd, &rendering) };
 }

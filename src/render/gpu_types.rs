@@ -4,7 +4,7 @@ use glam::camera::rh::proj::vulkan;
 use glam::{Mat4, Vec3};
 
 use crate::brdf::{Brdf, DiffuseModel};
-use crate::scene::{Camera, Object, PointLight, Shape};
+use crate::scene::{Camera, ImageSettings, Object, PointLight, ShadowFilter, Shape};
 
 /// `Frame` (std140).
 #[repr(C)]
@@ -13,15 +13,21 @@ pub struct GpuFrame {
     pub view_projection: [[f32; 4]; 4],
     pub camera_position: [f32; 4],
     pub light_count: u32,
-    pub pad: [u32; 3],
+    /// The angle a shadow-map texel subtends at the centre of a cube face: 2 / size.
+    pub shadow_texel_angle: f32,
+    /// 0: hard shadows, 1: PCF.
+    pub shadow_filter: u32,
+    pub pad: u32,
 }
 
 /// `PointLight` (std430).
 #[repr(C)]
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct GpuPointLight {
     pub position: [f32; 4],
     pub radiance: [f32; 4],
+    /// x: the light's cube in the shadow cube array, or -1 for a light that casts no shadows.
+    pub shadow: [i32; 4],
 }
 
 /// `Material` (std430).
@@ -42,7 +48,7 @@ pub struct GpuMaterial {
 
 /// `ObjectData` (std430).
 #[repr(C)]
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct GpuObject {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 4],
@@ -66,20 +72,30 @@ impl GpuFrame {
     /// Reverse-Z with an infinite far plane: depth is near / distance, 1 at the near plane and 0 at infinity,
     /// so the plane's vertices at infinity land exactly on the far end and float depth keeps its precision.
     /// glam's Vulkan projection also flips y, Vulkan's clip space having y pointing down the image.
-    pub fn new(camera: &Camera, aspect: f32, lights: &[PointLight], near: f32) -> Self {
+    pub fn new(camera: &Camera, aspect: f32, image: &ImageSettings, light_count: usize, near: f32) -> Self {
         let projection = vulkan::perspective_infinite_reverse(camera.fov_y.to_radians(), aspect, near);
         Self {
             view_projection: (projection * camera.view()).to_cols_array_2d(),
             camera_position: camera.position.extend(1.0).into(),
-            light_count: lights.len() as u32,
-            pad: [0; 3],
+            light_count: light_count as u32,
+            shadow_texel_angle: 2.0 / image.shadow_map_size as f32,
+            shadow_filter: match image.shadow_filter {
+                ShadowFilter::Hard => 0,
+                ShadowFilter::Pcf => 1,
+            },
+            pad: 0,
         }
     }
 }
 
-impl From<&PointLight> for GpuPointLight {
-    fn from(light: &PointLight) -> Self {
-        Self { position: light.position.extend(1.0).into(), radiance: (light.color * light.power).extend(0.0).into() }
+impl GpuPointLight {
+    /// A light whose shadow cube is `shadow_slot` in the cube array, if it casts shadows.
+    pub fn new(light: &PointLight, shadow_slot: Option<usize>) -> Self {
+        Self {
+            position: light.position.extend(1.0).into(),
+            radiance: (light.color * light.power).extend(0.0).into(),
+            shadow: [shadow_slot.map_or(-1, |slot| slot as i32), 0, 0, 0],
+        }
     }
 }
 
@@ -134,7 +150,7 @@ mod tests {
     fn sizes_match_the_glsl_layouts() {
         // std140 Frame: mat4 (64) + vec4 (16) + uint padded to 16.
         assert_eq!(std::mem::size_of::<GpuFrame>(), 96);
-        assert_eq!(std::mem::size_of::<GpuPointLight>(), 32);
+        assert_eq!(std::mem::size_of::<GpuPointLight>(), 48);
         // std430 Material: 3 vec4 (48) + 8 scalars (32).
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 80);
         assert_eq!(std::mem::size_of::<GpuObject>(), 64 + 64 + 80 + 16);

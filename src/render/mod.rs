@@ -2,9 +2,10 @@
 
 mod forward;
 pub mod gpu_types;
+mod passes;
 mod probe;
+mod shadow;
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 use ash::vk;
@@ -12,17 +13,19 @@ use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
-use crate::mesh::{place_objects, Mesh, PlacedMesh};
+use crate::mesh::{place_objects, PlacedMesh};
 use crate::output::HdrImage;
 use crate::scene::Scene;
 use crate::vulkan::{
-    subresource_range, Buffer, BufferDesc, Device, DeviceInfo, Image, ImageDesc, Instance, ShaderCompiler,
+    BufferDesc, Descriptor, Device, DeviceInfo, ImageDesc, Instance, PipelineLayout, Sampler, ShaderCompiler,
     ShaderSources,
 };
 use forward::{ForwardPass, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuFrame, GpuObject, GpuPointLight};
+use passes::{barriers, draw_objects, image_barrier, upload_meshes, PassTargets};
 pub use probe::ProbeCase;
 use probe::{read_vec3s, ProbePass};
+use shadow::{cube_face_views, ShadowPass, DISTANCE_FORMAT};
 
 /// The near plane's distance: with reverse-Z float depth the precision does not depend on it.
 const NEAR_PLANE: f32 = 1e-3;
@@ -40,6 +43,10 @@ pub struct RendererOptions {
 
 /// A Vulkan device with the forward pass's shaders compiled and pipelines built once, reused for every image.
 pub struct Renderer {
+    /// The one descriptor set layout and push constants of the shadow and forward passes.
+    layout: Arc<PipelineLayout>,
+    shadow: ShadowPass,
+    shadow_sampler: Sampler,
     forward: ForwardPass,
     /// Built on first use: only the BRDF tests need it.
     probe: Option<ProbePass>,
@@ -56,8 +63,11 @@ impl Renderer {
         let instance = Arc::new(Instance::new(options.validate)?);
         let device = Device::new(instance, options.device.as_deref())?;
         let compiler = ShaderCompiler::new(options.shaders)?;
-        let forward = ForwardPass::new(&device, &compiler)?;
-        let renderer = Self { forward, probe: None, compiler, device };
+        let layout = scene_layout(&device)?;
+        let shadow = ShadowPass::new(&device, &compiler, &layout)?;
+        let forward = ForwardPass::new(&device, &compiler, &layout)?;
+        let shadow_sampler = device.create_nearest_sampler("shadow cubes")?;
+        let renderer = Self { layout, shadow, shadow_sampler, forward, probe: None, compiler, device };
         renderer.check_validation()?;
         Ok(renderer)
     }
@@ -104,6 +114,13 @@ impl Renderer {
             if value > max {
                 return Err(error(format!("image.{key} = {value}: above the limit of {max} pixels of {device}")));
             }
+        }
+        let max_cube = self.device.limits.max_image_dimension_cube;
+        if scene.image.shadow_map_size > max_cube {
+            return Err(error(format!(
+                "image.shadow_map_size = {}: above the limit of {max_cube} texels of {device}",
+                scene.image.shadow_map_size
+            )));
         }
         let supported = self.supported_sample_counts();
         if !supported.contains(&scene.image.samples) {
@@ -164,54 +181,92 @@ impl Renderer {
         let device = self.device.clone();
         let (width, height) = (scene.image.width, scene.image.height);
         let samples = vk::SampleCountFlags::from_raw(scene.image.samples);
-        let multisampled = samples != vk::SampleCountFlags::TYPE_1;
 
-        // Scene data.
-        let frame = GpuFrame::new(&scene.camera, width as f32 / height as f32, &scene.lights, NEAR_PLANE);
-        let lights: Vec<GpuPointLight> = scene.lights.iter().map(GpuPointLight::from).collect();
+        // Scene data. Each light that casts shadows gets the next cube of the shadow cube array.
+        let shadow_casters: Vec<usize> = (0..scene.lights.len()).filter(|&i| scene.lights[i].shadows).collect();
+        let frame =
+            GpuFrame::new(&scene.camera, width as f32 / height as f32, &scene.image, scene.lights.len(), NEAR_PLANE);
+        let lights: Vec<GpuPointLight> = scene
+            .lights
+            .iter()
+            .enumerate()
+            .map(|(i, light)| GpuPointLight::new(light, shadow_casters.iter().position(|&c| c == i)))
+            .collect();
         let objects: Vec<GpuObject> =
             scene.objects.iter().zip(placed).map(|(object, p)| GpuObject::new(object, p.model)).collect();
+        let shadow_views: Vec<[[f32; 4]; 4]> = shadow_casters
+            .iter()
+            .flat_map(|&i| cube_face_views(scene.lights[i].position, NEAR_PLANE))
+            .map(|m| m.to_cols_array_2d())
+            .collect();
         let frame_buffer = device.create_buffer_with_data(&[frame], vk::BufferUsageFlags::UNIFORM_BUFFER, "frame")?;
-        // An empty storage buffer is not allowed: a scene without lights still binds one (unread) element.
-        let lights_buffer = device.create_buffer_with_data(
-            if lights.is_empty() { &[GpuPointLight { position: [0.0; 4], radiance: [0.0; 4] }] } else { &lights },
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            "lights",
-        )?;
-        let objects_buffer = if objects.is_empty() {
-            device.create_buffer(
-                BufferDesc {
-                    size: std::mem::size_of::<GpuObject>() as u64,
-                    usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-                    location: MemoryLocation::CpuToGpu,
-                },
-                "objects",
-            )?
-        } else {
-            device.create_buffer_with_data(&objects, vk::BufferUsageFlags::STORAGE_BUFFER, "objects")?
-        };
+        // Storage buffers may not be empty: a scene without lights or objects binds one unread element.
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let lights_buffer = device.create_buffer_with_data(&non_empty(&lights), storage, "lights")?;
+        let objects_buffer = device.create_buffer_with_data(&non_empty(&objects), storage, "objects")?;
+        let views_buffer = device.create_buffer_with_data(&non_empty(&shadow_views), storage, "shadow views")?;
         let meshes = upload_meshes(&device, placed)?;
+
+        // Shadow cubes: one per casting light (a single unused 1-texel cube when none casts), and one depth
+        // image reused by every face in turn.
+        let shadow_size = if shadow_casters.is_empty() { 1 } else { scene.image.shadow_map_size };
+        let cube_layers = 6 * shadow_casters.len().max(1) as u32;
+        let shadow_maps = device.create_image(
+            ImageDesc {
+                width: shadow_size,
+                height: shadow_size,
+                layers: cube_layers,
+                cube: true,
+                format: DISTANCE_FORMAT,
+                samples: vk::SampleCountFlags::TYPE_1,
+                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+                aspect: vk::ImageAspectFlags::COLOR,
+            },
+            "shadow cubes",
+        )?;
+        let shadow_depth = device.create_image(
+            ImageDesc::plain(
+                shadow_size,
+                shadow_size,
+                DEPTH_FORMAT,
+                vk::SampleCountFlags::TYPE_1,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageAspectFlags::DEPTH,
+            ),
+            "shadow depth",
+        )?;
+        // One view per face of each cube, in the order the faces are drawn.
+        let face_views = (0..6 * shadow_casters.len() as u32)
+            .map(|layer| shadow_maps.layer_view(layer, 1))
+            .collect::<Result<Vec<_>>>()?;
 
         let pool = device.create_descriptor_pool(
             1,
             &[
                 vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: 1 },
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 },
+                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 3 },
+                vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 1 },
             ],
         )?;
-        let set = pool.allocate_buffer_set(
-            self.forward.layout.set_layouts[0],
+        let set = pool.allocate_set(
+            self.layout.set_layouts[0],
             &[
-                (vk::DescriptorType::UNIFORM_BUFFER, &frame_buffer),
-                (vk::DescriptorType::STORAGE_BUFFER, &lights_buffer),
-                (vk::DescriptorType::STORAGE_BUFFER, &objects_buffer),
+                Descriptor::Buffer(vk::DescriptorType::UNIFORM_BUFFER, &frame_buffer),
+                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &lights_buffer),
+                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &objects_buffer),
+                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &views_buffer),
+                Descriptor::SampledImage(
+                    shadow_maps.view,
+                    &self.shadow_sampler,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                ),
             ],
         )?;
 
         // Targets: the multisampled colour and depth, and the single-sample image they resolve to.
-        let attachment = |format, samples, usage, aspect| ImageDesc { width, height, format, samples, usage, aspect };
+        let target = |format, samples, usage, aspect| ImageDesc::plain(width, height, format, samples, usage, aspect);
         let resolved = device.create_image(
-            attachment(
+            target(
                 COLOR_FORMAT,
                 vk::SampleCountFlags::TYPE_1,
                 vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
@@ -219,21 +274,16 @@ impl Renderer {
             ),
             "resolved colour",
         )?;
-        let multisampled_color = if multisampled {
+        let multisampled = if samples == vk::SampleCountFlags::TYPE_1 {
+            None
+        } else {
             Some(device.create_image(
-                attachment(COLOR_FORMAT, samples, vk::ImageUsageFlags::COLOR_ATTACHMENT, vk::ImageAspectFlags::COLOR),
+                target(COLOR_FORMAT, samples, vk::ImageUsageFlags::COLOR_ATTACHMENT, vk::ImageAspectFlags::COLOR),
                 "multisampled colour",
             )?)
-        } else {
-            None
         };
         let depth = device.create_image(
-            attachment(
-                DEPTH_FORMAT,
-                samples,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-                vk::ImageAspectFlags::DEPTH,
-            ),
+            target(DEPTH_FORMAT, samples, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT, vk::ImageAspectFlags::DEPTH),
             "depth",
         )?;
         let readback = device.create_buffer(
@@ -245,125 +295,103 @@ impl Renderer {
             "readback",
         )?;
 
-        let pipeline = self.forward.pipeline(samples)?;
-        let layout = pipeline.layout.raw;
-        let pipeline = pipeline.raw;
-        let background = scene.image.background;
+        let layout = self.layout.raw;
+        let shadow_pipeline = self.shadow.pipeline.raw;
+        let forward_pipeline = self.forward.pipeline(samples)?.raw;
+        let b = scene.image.background;
         device.submit_and_wait(|cmd| {
-            let raw = &device.raw;
-            let color_target = multisampled_color.as_ref().unwrap_or(&resolved);
-            let mut to_attachment = vec![
-                image_barrier(
-                    &resolved,
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                    (vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
-                ),
-                image_barrier(
-                    &depth,
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                    (
-                        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    ),
-                ),
-            ];
-            if let Some(msaa) = &multisampled_color {
-                to_attachment.push(image_barrier(
-                    msaa,
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
-                    (vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
-                ));
-            }
             // SAFETY: every handle recorded here lives until submit_and_wait has waited for the work.
             unsafe {
-                raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_attachment));
+                device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[set], &[]);
+            }
 
-                let mut color = vk::RenderingAttachmentInfo::default()
-                    .image_view(color_target.view)
-                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                    .load_op(vk::AttachmentLoadOp::CLEAR)
-                    .store_op(vk::AttachmentStoreOp::STORE)
-                    .clear_value(vk::ClearValue {
-                        color: vk::ClearColorValue { float32: [background.x, background.y, background.z, 1.0] },
-                    });
-                if multisampled {
-                    // The float resolve averages the samples, as the course averages its pixel samples.
-                    color = color
-                        .resolve_mode(vk::ResolveModeFlags::AVERAGE)
-                        .resolve_image_view(resolved.view)
-                        .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                        .store_op(vk::AttachmentStoreOp::DONT_CARE);
-                }
-                let colors = [color];
-                let depth_attachment = vk::RenderingAttachmentInfo::default()
-                    .image_view(depth.view)
-                    .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                    .load_op(vk::AttachmentLoadOp::CLEAR)
-                    .store_op(vk::AttachmentStoreOp::DONT_CARE)
-                    .clear_value(vk::ClearValue {
-                        depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 },
-                    });
-                let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: vk::Extent2D { width, height } };
-                let rendering = vk::RenderingInfo::default()
-                    .render_area(area)
-                    .layer_count(1)
-                    .color_attachments(&colors)
-                    .depth_attachment(&depth_attachment);
-                raw.cmd_begin_rendering(cmd, &rendering);
-                raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                raw.cmd_set_viewport(
+            // Shadow cubes, one light at a time, then ready to be sampled.
+            let cubes_to_read = if shadow_casters.is_empty() {
+                image_barrier(&shadow_maps, vk::ImageLayout::UNDEFINED, READ_ONLY, NOTHING, SAMPLED)
+            } else {
+                barriers(
+                    &device,
                     cmd,
-                    0,
-                    &[vk::Viewport {
-                        x: 0.0,
-                        y: 0.0,
-                        width: width as f32,
-                        height: height as f32,
-                        min_depth: 0.0,
-                        max_depth: 1.0,
-                    }],
+                    &[image_barrier(&shadow_maps, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE)],
                 );
-                raw.cmd_set_scissor(cmd, 0, &[area]);
-                raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[set], &[]);
-                for (index, p) in placed.iter().enumerate() {
-                    let mesh = &meshes[&mesh_key(&p.mesh)];
-                    raw.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.raw], &[0]);
-                    raw.cmd_bind_index_buffer(cmd, mesh.indices.raw, 0, vk::IndexType::UINT32);
-                    raw.cmd_push_constants(
+                // SAFETY: as above.
+                unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, shadow_pipeline) };
+                let faces = shadow_casters.iter().flat_map(|&light| (0..6u32).map(move |face| (light as u32, face)));
+                for (face_view, light_face) in face_views.iter().zip(faces) {
+                    // The depth image is cleared for each face: the previous face's tests must be over first.
+                    barriers(
+                        &device,
                         cmd,
-                        layout,
-                        vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                        0,
-                        &(index as u32).to_ne_bytes(),
+                        &[image_barrier(
+                            &shadow_depth,
+                            vk::ImageLayout::UNDEFINED,
+                            DEPTH_TARGET,
+                            DEPTH_TESTS,
+                            DEPTH_TESTS,
+                        )],
                     );
-                    raw.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
+                    let targets = PassTargets {
+                        color: face_view.raw,
+                        resolve: None,
+                        depth: shadow_depth.view,
+                        width: shadow_size,
+                        height: shadow_size,
+                    };
+                    shadow::begin(&device, cmd, &targets);
+                    draw_objects(&device, cmd, layout, &targets, placed, &meshes, light_face);
+                    // SAFETY: as above.
+                    unsafe { device.raw.cmd_end_rendering(cmd) };
                 }
-                raw.cmd_end_rendering(cmd);
+                image_barrier(&shadow_maps, COLOR_TARGET, READ_ONLY, COLOR_WRITE, SAMPLED)
+            };
 
-                let to_transfer = [image_barrier(
+            // The forward pass.
+            let mut to_targets = vec![
+                cubes_to_read,
+                image_barrier(&resolved, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE),
+                image_barrier(&depth, vk::ImageLayout::UNDEFINED, DEPTH_TARGET, NOTHING, DEPTH_TESTS),
+            ];
+            if let Some(image) = &multisampled {
+                to_targets.push(image_barrier(image, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE));
+            }
+            barriers(&device, cmd, &to_targets);
+            let targets = PassTargets {
+                color: multisampled.as_ref().unwrap_or(&resolved).view,
+                resolve: multisampled.as_ref().map(|_| resolved.view),
+                depth: depth.view,
+                width,
+                height,
+            };
+            forward::begin(&device, cmd, &targets, [b.x, b.y, b.z, 1.0]);
+            // SAFETY: as above.
+            unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, forward_pipeline) };
+            draw_objects(&device, cmd, layout, &targets, placed, &meshes, (0, 0));
+            // SAFETY: as above.
+            unsafe { device.raw.cmd_end_rendering(cmd) };
+
+            // Read back the resolved image.
+            barriers(
+                &device,
+                cmd,
+                &[image_barrier(
                     &resolved,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    COLOR_TARGET,
                     vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    (vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
-                    (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_READ),
-                )];
-                raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_transfer));
-                let region = vk::BufferImageCopy::default()
-                    .image_subresource(vk::ImageSubresourceLayers {
-                        aspect_mask: vk::ImageAspectFlags::COLOR,
-                        mip_level: 0,
-                        base_array_layer: 0,
-                        layer_count: 1,
-                    })
-                    .image_extent(vk::Extent3D { width, height, depth: 1 });
-                raw.cmd_copy_image_to_buffer(
+                    COLOR_WRITE,
+                    COPY_READ,
+                )],
+            );
+            let region = vk::BufferImageCopy::default()
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                })
+                .image_extent(vk::Extent3D { width, height, depth: 1 });
+            // SAFETY: as above.
+            unsafe {
+                device.raw.cmd_copy_image_to_buffer(
                     cmd,
                     resolved.raw,
                     vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
@@ -379,49 +407,53 @@ impl Renderer {
     }
 }
 
-/// A mesh's vertex and index buffers on the device.
-struct GpuMesh {
-    vertices: Buffer,
-    indices: Buffer,
-    index_count: u32,
+const COLOR_TARGET: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
+const DEPTH_TARGET: vk::ImageLayout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
+const READ_ONLY: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+type Access = (vk::PipelineStageFlags2, vk::AccessFlags2);
+const NOTHING: Access = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
+const COLOR_WRITE: Access =
+    (vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE);
+const DEPTH_TESTS: Access = (
+    vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+    ),
+    vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+    ),
+);
+const SAMPLED: Access = (vk::PipelineStageFlags2::FRAGMENT_SHADER, vk::AccessFlags2::SHADER_SAMPLED_READ);
+const COPY_READ: Access = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_READ);
+
+/// The descriptor set layout and push constants shared by the shadow and forward passes: the frame (0),
+/// lights (1), objects (2), the shadow cubes' face matrices (3) and the shadow cubes (4); the push constants
+/// name the object drawn and, in the shadow pass, the light and the cube face.
+fn scene_layout(device: &Arc<Device>) -> Result<Arc<PipelineLayout>> {
+    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let binding = |index: u32, kind: vk::DescriptorType| {
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(index)
+            .descriptor_type(kind)
+            .descriptor_count(1)
+            .stage_flags(stages)
+    };
+    let bindings = [
+        binding(0, vk::DescriptorType::UNIFORM_BUFFER),
+        binding(1, vk::DescriptorType::STORAGE_BUFFER),
+        binding(2, vk::DescriptorType::STORAGE_BUFFER),
+        binding(3, vk::DescriptorType::STORAGE_BUFFER),
+        binding(4, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+    ];
+    let push = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: 12 }];
+    device.create_pipeline_layout(&[&bindings], &push, "scene layout")
 }
 
-/// Meshes are shared between objects (every sphere uses the one unit sphere): key them by address.
-fn mesh_key(mesh: &Arc<Mesh>) -> usize {
-    Arc::as_ptr(mesh) as usize
-}
-
-fn upload_meshes(device: &Arc<Device>, placed: &[PlacedMesh]) -> Result<HashMap<usize, GpuMesh>> {
-    let mut meshes = HashMap::new();
-    for p in placed {
-        if meshes.contains_key(&mesh_key(&p.mesh)) {
-            continue;
-        }
-        let vertices =
-            device.create_buffer_with_data(&p.mesh.vertices, vk::BufferUsageFlags::VERTEX_BUFFER, "vertices")?;
-        let indices = device.create_buffer_with_data(&p.mesh.indices, vk::BufferUsageFlags::INDEX_BUFFER, "indices")?;
-        let index_count =
-            u32::try_from(p.mesh.indices.len()).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
-        meshes.insert(mesh_key(&p.mesh), GpuMesh { vertices, indices, index_count });
+/// `items`, or one default element when there are none: storage buffers may not be empty.
+fn non_empty<T: Copy + Default>(items: &[T]) -> std::borrow::Cow<'_, [T]> {
+    if items.is_empty() {
+        std::borrow::Cow::Owned(vec![T::default()])
+    } else {
+        std::borrow::Cow::Borrowed(items)
     }
-    Ok(meshes)
-}
-
-/// A layout transition of a whole single-mip image, with its source and destination (stage, access).
-fn image_barrier(
-    image: &Image,
-    old: vk::ImageLayout,
-    new: vk::ImageLayout,
-    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
-    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
-) -> vk::ImageMemoryBarrier2<'static> {
-    vk::ImageMemoryBarrier2::default()
-        .src_stage_mask(src.0)
-        .src_access_mask(src.1)
-        .dst_stage_mask(dst.0)
-        .dst_access_mask(dst.1)
-        .old_layout(old)
-        .new_layout(new)
-        .image(image.raw)
-        .subresource_range(subresource_range(image.desc.aspect))
 }

@@ -10,7 +10,7 @@ use gpu_allocator::MemoryLocation;
 use super::gpu_types::GpuMaterial;
 use crate::brdf::Brdf;
 use crate::error::Result;
-use crate::vulkan::{BufferDesc, Device, Pipeline, ShaderCompiler};
+use crate::vulkan::{BufferDesc, Descriptor, Device, Pipeline, ShaderCompiler};
 
 /// One evaluation: f_r(wi, wo) of a material at a surface with normal n.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,9 +92,12 @@ impl ProbePass {
             &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 }],
         )?;
         let layout = &self.pipeline.layout;
-        let set = pool.allocate_buffer_set(
+        let set = pool.allocate_set(
             layout.set_layouts[0],
-            &[(vk::DescriptorType::STORAGE_BUFFER, &input), (vk::DescriptorType::STORAGE_BUFFER, &output)],
+            &[
+                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &input),
+                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &output),
+            ],
         )?;
         let count = cases.len() as u32;
         device.submit_and_wait(|cmd| {

@@ -36,6 +36,8 @@ pub struct ImageSection {
     pub tonemap: String,
     pub exposure: f32,
     pub encoding: String,
+    pub shadow_map_size: i64,
+    pub shadow_filter: String,
 }
 
 impl Default for ImageSection {
@@ -48,6 +50,8 @@ impl Default for ImageSection {
             tonemap: "clamp".into(),
             exposure: 1.0,
             encoding: "linear".into(),
+            shadow_map_size: super::DEFAULT_SHADOW_MAP_SIZE.into(),
+            shadow_filter: "hard".into(),
         }
     }
 }

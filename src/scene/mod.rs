@@ -15,6 +15,13 @@ use crate::error::{Error, Result};
 
 pub use overrides::Override;
 
+/// The default `[image] shadow_map_size`: a 1024 x 1024 cube face is 0.09 degrees a texel, so a shadow
+/// edge on the course's plane (3 to 10 units from the light) is placed within 5 to 15 mm.
+pub const DEFAULT_SHADOW_MAP_SIZE: u32 = 1024;
+
+/// The most lights a scene may hold, each with its own shadow cube.
+pub const MAX_LIGHTS: usize = 16;
+
 /// The installed Stanford bunny that `path = "bunny"` names (Debian package glmark2-data).
 pub const BUNNY_PATH: &str = "/usr/share/glmark2/models/bunny.obj";
 
@@ -41,6 +48,19 @@ pub struct ImageSettings {
     pub tonemap: Tonemap,
     pub exposure: f32,
     pub encoding: Encoding,
+    /// The side of each face of a light's shadow cube, in texels.
+    pub shadow_map_size: u32,
+    /// Hard shadows (the course) or percentage-closer filtered ones.
+    pub shadow_filter: ShadowFilter,
+}
+
+/// How the shadow maps are read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowFilter {
+    /// One lookup: a hard edge, as the course's ray tracer.
+    Hard,
+    /// 3 x 3 lookups a texel apart, averaged: a soft edge one or two texels wide.
+    Pcf,
 }
 
 /// The tone curve applied after exposure and before the clamp.
@@ -193,7 +213,9 @@ mod tests {
                 background: Vec3::splat(0.5),
                 tonemap: Tonemap::Clamp,
                 exposure: 1.0,
-                encoding: Encoding::Linear
+                encoding: Encoding::Linear,
+                shadow_map_size: 1024,
+                shadow_filter: ShadowFilter::Hard,
             }
         );
         assert_eq!(scene.camera, Camera { position: Vec3::ZERO, look_at: Vec3::Z, up: Vec3::Y, fov_y: 60.0 });

@@ -7,7 +7,9 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::file::{CameraSection, ImageSection, LightSection, MaterialSection, ObjectSection, Rgb, SceneFile};
-use super::{Camera, Encoding, ImageSettings, Object, PointLight, Scene, Shape, Tonemap, BUNNY_PATH};
+use super::{
+    Camera, Encoding, ImageSettings, Object, PointLight, Scene, ShadowFilter, Shape, Tonemap, BUNNY_PATH, MAX_LIGHTS,
+};
 use crate::brdf::{Brdf, DiffuseModel};
 
 type Check<T> = Result<T, String>;
@@ -16,6 +18,12 @@ type Check<T> = Result<T, String>;
 pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
     let image = image(&raw.image)?;
     let camera = camera(&raw.camera)?;
+    if raw.lights.len() > MAX_LIGHTS {
+        return Err(format!(
+            "light.{MAX_LIGHTS}: the scene has {} lights, and vk-render takes at most {MAX_LIGHTS} (each has its own shadow cube)",
+            raw.lights.len()
+        ));
+    }
     let lights = raw.lights.iter().enumerate().map(|(i, l)| light(i, l)).collect::<Check<Vec<_>>>()?;
     let materials = raw
         .materials
@@ -49,6 +57,14 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
         "srgb" => Encoding::Srgb,
         other => return Err(format!("image.encoding = {other:?}: unknown encoding (expected \"linear\" or \"srgb\")")),
     };
+    let shadow_filter = match s.shadow_filter.as_str() {
+        "hard" => ShadowFilter::Hard,
+        "pcf" => ShadowFilter::Pcf,
+        other => return Err(format!("image.shadow_filter = {other:?}: unknown filter (expected \"hard\" or \"pcf\")")),
+    };
+    let shadow_map_size = u32::try_from(s.shadow_map_size).ok().filter(|v| *v >= 16).ok_or_else(|| {
+        format!("image.shadow_map_size = {}: must be a whole number of texels, at least 16", s.shadow_map_size)
+    })?;
     let samples = u32::try_from(s.samples)
         .ok()
         .filter(|v| v.is_power_of_two())
@@ -61,6 +77,8 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
         tonemap,
         exposure: at_least("image.exposure", s.exposure, 0.0)?,
         encoding,
+        shadow_map_size,
+        shadow_filter,
     })
 }
 

@@ -1,16 +1,24 @@
-//! Descriptor pools and the buffer descriptor sets allocated from them.
+//! Descriptor pools and the descriptor sets allocated from them.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::{Buffer, Device};
+use super::{Buffer, Device, Sampler};
 use crate::error::Result;
 
 /// A descriptor pool, destroyed (with every set allocated from it) in Drop.
 pub struct DescriptorPool {
     pub raw: vk::DescriptorPool,
     device: Arc<Device>,
+}
+
+/// What one binding of a set points at.
+pub enum Descriptor<'a> {
+    /// A uniform or storage buffer, whole.
+    Buffer(vk::DescriptorType, &'a Buffer),
+    /// An image view read through a sampler, in the given layout.
+    SampledImage(vk::ImageView, &'a Sampler, vk::ImageLayout),
 }
 
 impl Device {
@@ -31,36 +39,51 @@ impl Device {
 }
 
 impl DescriptorPool {
-    /// Allocates one set of `layout` and points binding i at `buffers[i]` (its type taken from the pair).
+    /// Allocates one set of `layout` and points binding i at `descriptors[i]`.
     ///
     /// # Errors
     /// `Error::Vulkan` if the pool is exhausted.
-    pub fn allocate_buffer_set(
+    pub fn allocate_set(
         &self,
         layout: vk::DescriptorSetLayout,
-        buffers: &[(vk::DescriptorType, &Buffer)],
+        descriptors: &[Descriptor],
     ) -> Result<vk::DescriptorSet> {
         let layouts = [layout];
         let info = vk::DescriptorSetAllocateInfo::default().descriptor_pool(self.raw).set_layouts(&layouts);
         // SAFETY: the pool and layout are alive.
         let set = unsafe { self.device.raw.allocate_descriptor_sets(&info)? }[0];
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+        let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = descriptors
             .iter()
-            .map(|(_, buffer)| [vk::DescriptorBufferInfo { buffer: buffer.raw, offset: 0, range: vk::WHOLE_SIZE }])
-            .collect();
-        let writes: Vec<_> = buffers
-            .iter()
-            .zip(&infos)
-            .enumerate()
-            .map(|(binding, ((kind, _), info))| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(binding as u32)
-                    .descriptor_type(*kind)
-                    .buffer_info(info)
+            .map(|d| match d {
+                Descriptor::Buffer(_, buffer) => {
+                    [vk::DescriptorBufferInfo { buffer: buffer.raw, offset: 0, range: vk::WHOLE_SIZE }]
+                }
+                Descriptor::SampledImage(..) => [vk::DescriptorBufferInfo::default()],
             })
             .collect();
-        // SAFETY: the set and the buffers are alive.
+        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = descriptors
+            .iter()
+            .map(|d| match d {
+                Descriptor::SampledImage(view, sampler, layout) => {
+                    [vk::DescriptorImageInfo { sampler: sampler.raw, image_view: *view, image_layout: *layout }]
+                }
+                Descriptor::Buffer(..) => [vk::DescriptorImageInfo::default()],
+            })
+            .collect();
+        let writes: Vec<_> = descriptors
+            .iter()
+            .enumerate()
+            .map(|(binding, d)| {
+                let write = vk::WriteDescriptorSet::default().dst_set(set).dst_binding(binding as u32);
+                match d {
+                    Descriptor::Buffer(kind, _) => write.descriptor_type(*kind).buffer_info(&buffer_infos[binding]),
+                    Descriptor::SampledImage(..) => write
+                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                        .image_info(&image_infos[binding]),
+                }
+            })
+            .collect();
+        // SAFETY: the set and everything it points at are alive.
         unsafe { self.device.raw.update_descriptor_sets(&writes, &[]) };
         Ok(set)
     }

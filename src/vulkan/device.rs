@@ -125,7 +125,12 @@ impl Device {
             [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
         let mut features13 =
             vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
-        let create_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info).push_next(&mut features13);
+        // Shadow cubes are a cube array, one cube per light.
+        let features = vk::PhysicalDeviceFeatures::default().image_cube_array(true);
+        let create_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .enabled_features(&features)
+            .push_next(&mut features13);
         // SAFETY: create_info and what it points to outlive the call.
         let raw = unsafe { instance.raw.create_device(physical, &create_info, None)? };
         // SAFETY: the family was created with one queue.

@@ -9,18 +9,36 @@ use gpu_allocator::MemoryLocation;
 use super::Device;
 use crate::error::Result;
 
-/// A 2D image's size, format, sample count and use.
+/// A 2D image's size, layers, format, sample count and use.
 #[derive(Clone, Copy, Debug)]
 pub struct ImageDesc {
     pub width: u32,
     pub height: u32,
+    /// Array layers: 1 for a plain image, 6 per cube of a cube array.
+    pub layers: u32,
+    /// Cube-compatible, viewed as a cube array (layers a multiple of 6).
+    pub cube: bool,
     pub format: vk::Format,
     pub samples: vk::SampleCountFlags,
     pub usage: vk::ImageUsageFlags,
     pub aspect: vk::ImageAspectFlags,
 }
 
-/// A device-local 2D image with one view, freed in Drop.
+impl ImageDesc {
+    /// A single-layer 2D image.
+    pub fn plain(
+        width: u32,
+        height: u32,
+        format: vk::Format,
+        samples: vk::SampleCountFlags,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Self {
+        Self { width, height, layers: 1, cube: false, format, samples, usage, aspect }
+    }
+}
+
+/// A device-local 2D image with a view of all its layers (2D, 2D array or cube array), freed in Drop.
 pub struct Image {
     pub raw: vk::Image,
     pub view: vk::ImageView,
@@ -40,7 +58,8 @@ impl Device {
             .format(desc.format)
             .extent(vk::Extent3D { width: desc.width, height: desc.height, depth: 1 })
             .mip_levels(1)
-            .array_layers(1)
+            .array_layers(desc.layers)
+            .flags(if desc.cube { vk::ImageCreateFlags::CUBE_COMPATIBLE } else { vk::ImageCreateFlags::empty() })
             .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
@@ -63,11 +82,16 @@ impl Device {
                     return Err(e.into());
                 }
             };
+            let view_type = match (desc.cube, desc.layers) {
+                (true, _) => vk::ImageViewType::CUBE_ARRAY,
+                (false, 1) => vk::ImageViewType::TYPE_2D,
+                (false, _) => vk::ImageViewType::TYPE_2D_ARRAY,
+            };
             let view_info = vk::ImageViewCreateInfo::default()
                 .image(raw)
-                .view_type(vk::ImageViewType::TYPE_2D)
+                .view_type(view_type)
                 .format(desc.format)
-                .subresource_range(subresource_range(desc.aspect));
+                .subresource_range(layer_range(desc.aspect, 0, desc.layers));
             let view = self
                 .raw
                 .bind_image_memory(raw, allocation.memory(), allocation.offset())
@@ -86,14 +110,50 @@ impl Device {
     }
 }
 
-/// The whole of a single-mip, single-layer image.
-pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+/// `count` layers from `first` of a single-mip image.
+pub fn layer_range(aspect: vk::ImageAspectFlags, first: u32, count: u32) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
         aspect_mask: aspect,
         base_mip_level: 0,
         level_count: 1,
-        base_array_layer: 0,
-        layer_count: 1,
+        base_array_layer: first,
+        layer_count: count,
+    }
+}
+
+/// An extra view of some layers of an image (e.g. one cube of a cube array, to render into), destroyed in
+/// Drop; its owner keeps the image alive longer.
+pub struct ImageView {
+    pub raw: vk::ImageView,
+    device: Arc<Device>,
+}
+
+impl Image {
+    /// A 2D-array view of `count` layers from `first`.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` if the driver refuses the view.
+    pub fn layer_view(&self, first: u32, count: u32) -> Result<ImageView> {
+        let info = vk::ImageViewCreateInfo::default()
+            .image(self.raw)
+            .view_type(vk::ImageViewType::TYPE_2D_ARRAY)
+            .format(self.desc.format)
+            .subresource_range(layer_range(self.desc.aspect, first, count));
+        // SAFETY: the image is alive; the view is destroyed before it by its owner.
+        let raw = unsafe { self.device.raw.create_image_view(&info, None)? };
+        Ok(ImageView { raw, device: self.device.clone() })
+    }
+
+    /// Every layer of the image.
+    pub fn full_range(&self) -> vk::ImageSubresourceRange {
+        layer_range(self.desc.aspect, 0, self.desc.layers)
+    }
+}
+
+impl Drop for ImageView {
+    fn drop(&mut self) {
+        // SAFETY: renders wait for their work before returning, so the GPU no longer uses the view.
+        unsafe { self.device.raw.destroy_image_view(self.raw, None) };
     }
 }
 

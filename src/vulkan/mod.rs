@@ -9,12 +9,14 @@ mod device;
 mod image;
 mod instance;
 mod pipeline;
+mod sampler;
 mod shader;
 
 pub use buffer::{Buffer, BufferDesc};
-pub use descriptor::DescriptorPool;
+pub use descriptor::{Descriptor, DescriptorPool};
 pub use device::{list_devices, preferred_device, Device, DeviceInfo};
-pub use image::{subresource_range, Image, ImageDesc};
+pub use image::{layer_range, Image, ImageDesc, ImageView};
 pub use instance::{Instance, ValidationLog, INSTALL_HINT};
 pub use pipeline::{GraphicsPipelineDesc, Pipeline, PipelineLayout};
+pub use sampler::Sampler;
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources};

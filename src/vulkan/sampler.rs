@@ -1,0 +1,43 @@
+//! Samplers.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::Device;
+use crate::error::Result;
+
+/// A sampler, destroyed in Drop.
+pub struct Sampler {
+    pub raw: vk::Sampler,
+    device: Arc<Device>,
+}
+
+impl Device {
+    /// A sampler that reads the nearest texel, clamped to the edge: shadow maps hold distances, which must
+    /// not be blended.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` if the driver refuses the sampler.
+    pub fn create_nearest_sampler(self: &Arc<Self>, name: &str) -> Result<Sampler> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .max_lod(0.0);
+        // SAFETY: the device is alive.
+        let raw = unsafe { self.raw.create_sampler(&info, None)? };
+        self.set_name(raw, name);
+        Ok(Sampler { raw, device: self.clone() })
+    }
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        // SAFETY: renders wait for their work before returning, so no descriptor using it is in flight.
+        unsafe { self.device.raw.destroy_sampler(self.raw, None) };
+    }
+}
