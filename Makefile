@@ -2,7 +2,7 @@
 # Both first install the Debian packages they need (see BUILD_NOTES in the README).
 
 # Debian packages, by what needs them.
-RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1
+RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1 glmark2-data
 BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools
 TEST_PACKAGES := vulkan-validationlayers
 

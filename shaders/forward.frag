@@ -44,21 +44,24 @@ const float MAX_BIAS_SLOPE = 20.0;
 // Whether the light sees p (1) or not (0), or the fraction of PCF lookups that do.
 //
 // The cube holds, per texel, the distance from the light to the nearest surface along the texel's centre
-// direction. With nearest lookups that direction is up to half a texel diagonal (0.71 texel) away from p's,
-// and on a surface at incidence theta_i the distance along it changes by d * angle * tan(theta_i): the bias
-// covers that, plus half a texel for curvature and rounding. Shadows therefore start within about
-// d * texel * (0.75 tan(theta_i) + 0.5) of the exact contact: 2 mm at 4 units with 1024 texels, head-on.
+// direction. A lookup `reach` texels away from p's own direction (0.71, half a diagonal, for the nearest
+// texel; one texel more for PCF's outer lookups) meets the surface at a distance that differs by about
+// d * texel * reach * tan(theta_i): the bias covers that, plus half a texel for curvature and rounding.
+// Shadows therefore start within about d * texel * (0.75 tan(theta_i) + 0.5) of the exact contact with hard
+// lookups: 2 mm at 4 units with 1024 texels, head-on.
 float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
     if (light.shadow.x < 0) {
         return 1.0;
     }
+    bool pcf = frame.shadow_filter != 0u;
     vec3 from_light = p - light.position.xyz;
     float tan_theta = min(sqrt(max(1.0 - NoL * NoL, 0.0)) / NoL, MAX_BIAS_SLOPE);
     float texel = frame.shadow_texel_angle;
-    float reach = distance - distance * texel * (0.75 * tan_theta + 0.5);
+    float reach = pcf ? 1.75 : 0.75;
+    float unoccluded = distance - distance * texel * (reach * tan_theta + 0.5);
     float layer = float(light.shadow.x);
-    if (frame.shadow_filter == 0u) {
-        return texture(shadow_maps, vec4(from_light, layer)).r < reach ? 0.0 : 1.0;
+    if (!pcf) {
+        return texture(shadow_maps, vec4(from_light, layer)).r < unoccluded ? 0.0 : 1.0;
     }
     // PCF: 3 x 3 lookups one texel apart across the lookup direction, averaged.
     vec3 u = normalize(abs(from_light.x) < 0.9 * distance ? cross(from_light, vec3(1.0, 0.0, 0.0))
@@ -69,7 +72,7 @@ float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
     for (int i = -1; i <= 1; ++i) {
         for (int j = -1; j <= 1; ++j) {
             vec3 direction = from_light + (float(i) * u + float(j) * v) * step_length;
-            lit += texture(shadow_maps, vec4(direction, layer)).r < reach ? 0.0 : 1.0;
+            lit += texture(shadow_maps, vec4(direction, layer)).r < unoccluded ? 0.0 : 1.0;
         }
     }
     return lit / 9.0;

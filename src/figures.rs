@@ -78,6 +78,11 @@ pub const FIGURES: &[Figure] = &[
         ],
     },
     Figure {
+        name: "figure-5-golden-bunny",
+        title: "Figure 5 - Golden bunny",
+        images: &[image!("fig5-golden-bunny.toml", "cook-torrance gold, metalness 1")],
+    },
+    Figure {
         name: "figure-6-phong-blinn-phong",
         title: "Figure 6 - Phong and Blinn-Phong at a grazing angle",
         images: &[image!("fig6-phong.toml", "phong"), image!("fig6-blinn-phong.toml", "blinn-phong")],

@@ -40,7 +40,13 @@ fn every_figure_image_matches_the_cpu_reference() {
         for image in figure.images {
             let scene = image.scene(&[]).unwrap();
             let name = image.file.trim_end_matches(".toml");
-            let c = check_against_reference(name, &scene, |c| c.mean_abs <= 0.01 && c.max <= 1);
+            // Figure 5's shadow is in view, and shadow edges fall on different pixels in a shadow map than in a
+            // ray tracer; elsewhere the shadows are hidden behind the sphere and every pixel is within a level.
+            let c = if name.starts_with("fig5") {
+                check_against_reference(name, &scene, |c| acceptable(c) && c.mean_abs <= 0.05)
+            } else {
+                check_against_reference(name, &scene, |c| c.mean_abs <= 0.01 && c.max <= 1)
+            };
             eprintln!("{name}: {c}");
         }
     }

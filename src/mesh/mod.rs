@@ -6,7 +6,7 @@ use std::sync::{Arc, OnceLock};
 use glam::{Mat4, Vec3};
 
 use crate::error::{Error, Result};
-use crate::scene::{Scene, Shape};
+use crate::scene::{Scene, Shape, BUNNY_PATH};
 
 /// One vertex as the vertex shader reads it.
 ///
@@ -113,6 +113,11 @@ pub fn load_obj(path: &Path) -> Result<Mesh, String> {
     let options = tobj::LoadOptions { single_index: true, triangulate: true, ignore_points: true, ignore_lines: true };
     let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| match e {
         tobj::LoadError::OpenFileFailed => match std::fs::metadata(path) {
+            Err(io) if path == Path::new(BUNNY_PATH) => format!(
+                "cannot open {}: {io}; the Stanford bunny comes with the Debian package glmark2-data \
+                 (sudo apt-get install glmark2-data, or `make setup`)",
+                path.display()
+            ),
             Err(io) => format!("cannot open {}: {io}", path.display()),
             Ok(_) => format!("cannot open {}", path.display()),
         },
