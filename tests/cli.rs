@@ -359,3 +359,14 @@ fn reference_writes_the_ray_traced_image_and_the_object_ids() {
     assert_eq!(sky, [0, 0, 0]);
     assert!(sphere != sky && plane != sky && sphere != plane, "{sky:?} {sphere:?} {plane:?}");
 }
+
+#[test]
+fn shadow_map_above_the_device_limit() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), |t| t.to_string());
+    fails_with(
+        &scene,
+        &["--set", "image.shadow_map_size=1000000"],
+        &["scene.toml", "image.shadow_map_size = 1000000", "above the limit"],
+    );
+}

@@ -113,12 +113,7 @@ pub fn load_obj(path: &Path) -> Result<Mesh, String> {
     let options = tobj::LoadOptions { single_index: true, triangulate: true, ignore_points: true, ignore_lines: true };
     let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| match e {
         tobj::LoadError::OpenFileFailed => match std::fs::metadata(path) {
-            Err(io) if path == Path::new(BUNNY_PATH) => format!(
-                "cannot open {}: {io}; the Stanford bunny comes with the Debian package glmark2-data \
-                 (sudo apt-get install glmark2-data, or `make setup`)",
-                path.display()
-            ),
-            Err(io) => format!("cannot open {}: {io}", path.display()),
+            Err(io) => cannot_open(path, &io),
             Ok(_) => format!("cannot open {}", path.display()),
         },
         other => format!("{} is not a valid OBJ file: {other}", path.display()),
@@ -147,6 +142,19 @@ pub fn load_obj(path: &Path) -> Result<Mesh, String> {
         return Err(format!("{} holds no triangles", path.display()));
     }
     Ok(mesh)
+}
+
+/// Why a mesh file could not be opened; for the installed bunny, which package provides it.
+fn cannot_open(path: &Path, error: &std::io::Error) -> String {
+    if path == Path::new(BUNNY_PATH) {
+        format!(
+            "cannot open {}: {error}; the Stanford bunny comes with the Debian package glmark2-data \
+             (sudo apt-get install glmark2-data, or `make setup`)",
+            path.display()
+        )
+    } else {
+        format!("cannot open {}: {error}", path.display())
+    }
 }
 
 /// Area-weighted vertex normals: each face adds its unnormalized cross product to its three vertices.
@@ -193,4 +201,25 @@ pub fn place_objects(scene: &Scene) -> Result<Vec<PlacedMesh>> {
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_bunny_names_its_package() {
+        let missing = std::io::Error::from(std::io::ErrorKind::NotFound);
+        let message = cannot_open(Path::new(BUNNY_PATH), &missing);
+        assert!(message.contains(BUNNY_PATH) && message.contains("glmark2-data"), "{message}");
+        assert!(!cannot_open(Path::new("/models/cube.obj"), &missing).contains("glmark2"));
+    }
+
+    #[test]
+    fn smooth_normals_of_a_tetrahedron_corner_average_its_faces() {
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        let normals = smooth_normals(&positions, &[0, 2, 1, 0, 1, 3, 0, 3, 2]);
+        // The corner at the origin touches three faces of equal area facing -z, -y and -x.
+        assert!(normals[0].abs_diff_eq(-Vec3::ONE.normalize(), 1e-6), "{}", normals[0]);
+    }
 }

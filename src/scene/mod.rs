@@ -340,5 +340,13 @@ mod tests {
         assert!(error("[[light]]\nposition = [0, 0, 0]\npower = -1", &[]).contains("light.0.power = -1"));
         assert!(error("[[light]]\ntype = \"spot\"\nposition = [0, 0, 0]", &[]).contains("light.0.type = \"spot\""));
         assert!(error("[[light]]\npower = 1", &[]).contains("missing field `position`"));
+        assert!(error("[image]\nshadow_map_size = 8", &[]).contains("image.shadow_map_size = 8"));
+        assert!(error("[image]\nshadow_filter = \"soft\"", &[]).contains("image.shadow_filter = \"soft\""));
+        let seventeen_lights = "[[light]]\nposition = [0, 1, 0]\n".repeat(MAX_LIGHTS + 1);
+        assert!(error(&seventeen_lights, &[]).contains("light.16: the scene has 17 lights"));
+        assert_eq!(
+            parse(&"[[light]]\nposition = [0, 1, 0]\n".repeat(MAX_LIGHTS), &[]).unwrap().lights.len(),
+            MAX_LIGHTS
+        );
     }
 }
