@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::passes::{vertex_input, PassTargets};
+use super::passes::{begin_rendering, vertex_input, PassTargets};
 use crate::error::Result;
 use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderCompiler};
 
@@ -68,7 +68,7 @@ impl ForwardPass {
 
 /// Begins dynamic rendering into the colour target (cleared to the background; resolved to `resolved`
 /// when multisampled, the float resolve averaging the samples as the course averages its pixel samples)
-/// and the depth target (cleared to 0, the far end in reverse-Z).
+/// and the depth target.
 pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets, background: [f32; 4]) {
     let mut color = vk::RenderingAttachmentInfo::default()
         .image_view(targets.color)
@@ -83,18 +83,5 @@ pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets, bac
             .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .store_op(vk::AttachmentStoreOp::DONT_CARE);
     }
-    let colors = [color];
-    let depth = vk::RenderingAttachmentInfo::default()
-        .image_view(targets.depth)
-        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
-        .store_op(vk::AttachmentStoreOp::DONT_CARE)
-        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
-    let rendering = vk::RenderingInfo::default()
-        .render_area(targets.area())
-        .layer_count(1)
-        .color_attachments(&colors)
-        .depth_attachment(&depth);
-    // SAFETY: the command buffer is recording; the views outlive the submission.
-    unsafe { device.raw.cmd_begin_rendering(cmd, &rendering) };
+    begin_rendering(device, cmd, targets, color);
 }

@@ -148,3 +148,27 @@ pub fn barriers(device: &Device, cmd: vk::CommandBuffer, barriers: &[vk::ImageMe
     // SAFETY: the command buffer is recording; the images outlive the submission.
     unsafe { device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(barriers)) };
 }
+
+/// Begins dynamic rendering into `color` and the targets' depth image, cleared to 0 (the far end in
+/// reverse-Z) and not stored.
+pub fn begin_rendering(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    targets: &PassTargets,
+    color: vk::RenderingAttachmentInfo,
+) {
+    let colors = [color];
+    let depth = vk::RenderingAttachmentInfo::default()
+        .image_view(targets.depth)
+        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(vk::AttachmentStoreOp::DONT_CARE)
+        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
+    let rendering = vk::RenderingInfo::default()
+        .render_area(targets.area())
+        .layer_count(1)
+        .color_attachments(&colors)
+        .depth_attachment(&depth);
+    // SAFETY: the command buffer is recording; the views outlive the submission.
+    unsafe { device.raw.cmd_begin_rendering(cmd, &rendering) };
+}

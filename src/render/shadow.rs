@@ -12,7 +12,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec3};
 
-use super::passes::{vertex_input, PassTargets};
+use super::passes::{begin_rendering, vertex_input, PassTargets};
 use crate::error::Result;
 use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderCompiler};
 
@@ -73,25 +73,13 @@ pub fn cube_face_views(light: Vec3, near: f32) -> [Mat4; 6] {
 /// Begins rendering one face of a cube: `targets.color` is a view of the face's layer; both it and the
 /// depth target are cleared.
 pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets) {
-    let colors = [vk::RenderingAttachmentInfo::default()
+    let color = vk::RenderingAttachmentInfo::default()
         .image_view(targets.color)
         .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
         .load_op(vk::AttachmentLoadOp::CLEAR)
         .store_op(vk::AttachmentStoreOp::STORE)
-        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: [FAR_AWAY, 0.0, 0.0, 0.0] } })];
-    let depth = vk::RenderingAttachmentInfo::default()
-        .image_view(targets.depth)
-        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
-        .store_op(vk::AttachmentStoreOp::DONT_CARE)
-        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
-    let rendering = vk::RenderingInfo::default()
-        .render_area(targets.area())
-        .layer_count(1)
-        .color_attachments(&colors)
-        .depth_attachment(&depth);
-    // SAFETY: the command buffer is recording; the views outlive the submission.
-    unsafe { device.raw.cmd_begin_rendering(cmd, &rendering) };
+        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: [FAR_AWAY, 0.0, 0.0, 0.0] } });
+    begin_rendering(device, cmd, targets, color);
 }
 
 #[cfg(test)]
