@@ -57,7 +57,7 @@ enum Geometry {
     },
     /// A triangle mesh in world space, with its vertex normals for smooth shading.
     Mesh {
-        triangles: TriMesh,
+        triangles: Box<TriMesh>,
         normals: Vec<Vec3>,
     },
 }
@@ -135,7 +135,7 @@ fn build_geometry(scene: &Scene) -> Result<Vec<Geometry>> {
                         value: path.display().to_string(),
                         message: format!("the reference cannot trace it: {e}"),
                     })?;
-                    Geometry::Mesh { triangles, normals: normals.collect() }
+                    Geometry::Mesh { triangles: Box::new(triangles), normals: normals.collect() }
                 }
             })
         })

@@ -87,7 +87,7 @@ fn a_light_casting_no_shadow_lights_everything() {
     let lit = without_shadows(&scene);
     let traced = reference::render(&lit).unwrap();
     check_against_reference("sphere-no-shadow", &lit, |c| c.max <= 1);
-    assert!(traced.object_ids.iter().any(|id| *id == Some(1)));
+    assert!(traced.object_ids.contains(&Some(1)));
 }
 
 #[test]
