@@ -4,7 +4,7 @@
 # Debian packages, by what needs them.
 RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1 glmark2-data
 BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools
-TEST_PACKAGES := vulkan-validationlayers
+TEST_PACKAGES := vulkan-validationlayers xvfb
 
 CARGO ?= cargo
 BIN := target/release/vk-render

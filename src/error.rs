@@ -39,6 +39,10 @@ pub enum Error {
     #[error("GPU memory allocation failed: {0}")]
     Allocation(#[from] gpu_allocator::AllocationError),
 
+    /// The preview's window could not be opened or run.
+    #[error("{0}")]
+    Preview(String),
+
     /// The output image could not be written.
     #[error("{}: {message}", path.display())]
     Output { path: PathBuf, message: String },

@@ -11,6 +11,8 @@ pub mod error;
 pub mod figures;
 pub mod mesh;
 pub mod output;
+#[cfg(feature = "preview")]
+pub mod preview;
 pub mod reference;
 pub mod render;
 pub mod scene;

@@ -39,6 +39,11 @@ enum Command {
     Reference(ReferenceArgs),
     /// Render one image per value of a scene key and a labelled contact sheet of them (PNG).
     Sweep(SweepArgs),
+    /// Show a scene live in a window: drag to orbit, wheel to zoom, R to reset, Tab to select an object,
+    /// 1-5 to switch its BRDF, Up/Down its main parameter, Left/Right its metalness, L shadows, S a
+    /// screenshot, Esc to quit. The scene file and shaders/ are reloaded when they change.
+    #[cfg(feature = "preview")]
+    Preview(PreviewArgs),
     /// Render every figure of the practical and one labelled contact sheet per figure into a folder.
     Figures(FiguresArgs),
     /// List the Vulkan devices and which one is used by default.
@@ -82,6 +87,37 @@ struct SweepArgs {
     /// Tiles per row of the sheet.
     #[arg(long, default_value_t = 4)]
     columns: usize,
+
+    #[command(flatten)]
+    image: ImageArgs,
+}
+
+#[cfg(feature = "preview")]
+#[derive(Args)]
+struct PreviewArgs {
+    /// The scene file (TOML, SCENE_FORMAT version 1).
+    scene: PathBuf,
+
+    /// Exit after presenting this many frames (headless checks, e.g. under xvfb-run).
+    #[arg(long, value_name = "N")]
+    frames: Option<u64>,
+
+    /// Test hook: exit after this many seconds (like --frames, saving --screenshot).
+    #[arg(long, value_name = "SECONDS", hide = true)]
+    seconds: Option<f64>,
+
+    /// Save the last presented frame to this PNG on exit (with --frames).
+    #[arg(long, value_name = "OUT.png")]
+    screenshot: Option<PathBuf>,
+
+    /// Test hook: actions applied one per frame, e.g. "Tab,2,Up,resize:320x200" (keys: Tab, 1-5, Up, Down,
+    /// Left, Right, L, S, R, Esc).
+    #[arg(long, value_name = "ACTIONS", hide = true)]
+    keys: Option<String>,
+
+    /// A shaders/ folder to watch and reload (default: the source tree's, when it is there).
+    #[arg(long, value_name = "DIR")]
+    shaders: Option<PathBuf>,
 
     #[command(flatten)]
     image: ImageArgs,
@@ -170,11 +206,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Reference(args) => reference(args),
         Command::Sweep(args) => sweep(args, options),
         Command::Figures(args) => figures(args, options),
+        #[cfg(feature = "preview")]
+        Command::Preview(args) => preview(args, options),
     }
 }
 
 fn devices(validate: bool) -> anyhow::Result<()> {
-    let instance = Instance::new(validate)?;
+    let instance = Instance::new(validate, &[])?;
     let devices = list_devices(&instance)?;
     let Some((_, preferred)) = preferred_device(&devices) else {
         anyhow::bail!("no Vulkan device was found. {}", vk_render::vulkan::INSTALL_HINT);
@@ -203,6 +241,33 @@ fn render(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
     let image = renderer.render(&scene)?;
     write_image(&image, &scene.image, &args.output)?;
     log::info!("wrote {}", args.output.display());
+    Ok(())
+}
+
+#[cfg(feature = "preview")]
+fn preview(args: PreviewArgs, renderer: RendererOptions) -> anyhow::Result<()> {
+    use vk_render::preview::{run, Action, PreviewOptions};
+    let script = match &args.keys {
+        Some(keys) => Action::parse_script(keys).map_err(|e| anyhow::anyhow!("--keys: {e}"))?,
+        None => Vec::new(),
+    };
+    if let Some(path) = &args.screenshot {
+        if OutputFormat::for_path(path)? != OutputFormat::Png {
+            anyhow::bail!("{}: a screenshot is a .png image", path.display());
+        }
+    }
+    let source_shaders = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let shaders = args.shaders.or_else(|| source_shaders.is_dir().then_some(source_shaders));
+    run(PreviewOptions {
+        scene: args.scene,
+        overrides: args.image.overrides(),
+        renderer,
+        frames: args.frames,
+        duration: args.seconds.map(std::time::Duration::from_secs_f64),
+        screenshot: args.screenshot,
+        script,
+        shaders,
+    })?;
     Ok(())
 }
 

@@ -39,6 +39,10 @@ pub struct RendererOptions {
     pub validate: bool,
     /// The GLSL to compile; the sources embedded at build time by default.
     pub shaders: ShaderSources,
+    /// Extra instance extensions (a window surface's, for the preview).
+    pub instance_extensions: Vec<&'static std::ffi::CStr>,
+    /// Extra device extensions (the swapchain's, for the preview).
+    pub device_extensions: Vec<&'static std::ffi::CStr>,
 }
 
 /// A Vulkan device with the forward pass's shaders compiled and pipelines built once, reused for every image.
@@ -60,8 +64,8 @@ impl Renderer {
     /// # Errors
     /// `Error::NoVulkan` with installation advice, `Error::Device`, `Error::Shader` or `Error::Vulkan`.
     pub fn new(options: RendererOptions) -> Result<Self> {
-        let instance = Arc::new(Instance::new(options.validate)?);
-        let device = Device::new(instance, options.device.as_deref())?;
+        let instance = Arc::new(Instance::new(options.validate, &options.instance_extensions)?);
+        let device = Device::new(instance, options.device.as_deref(), &options.device_extensions)?;
         let compiler = ShaderCompiler::new(options.shaders)?;
         let layout = scene_layout(&device)?;
         let shadow = ShadowPass::new(&device, &compiler, &layout)?;
@@ -70,6 +74,27 @@ impl Renderer {
         let renderer = Self { layout, shadow, shadow_sampler, forward, probe: None, compiler, device };
         renderer.check_validation()?;
         Ok(renderer)
+    }
+
+    /// The device, for what shares it (the preview's swapchain).
+    pub fn device(&self) -> &Arc<Device> {
+        &self.device
+    }
+
+    /// Recompiles every pass from `shaders`; on any error the passes in use are kept.
+    ///
+    /// # Errors
+    /// `Error::Shader` naming the file and line, or `Error::Vulkan`.
+    pub fn set_shaders(&mut self, shaders: ShaderSources) -> Result<()> {
+        let compiler = ShaderCompiler::new(shaders)?;
+        let shadow = ShadowPass::new(&self.device, &compiler, &self.layout)?;
+        let forward = ForwardPass::new(&self.device, &compiler, &self.layout)?;
+        // Pipelines of the old passes may still be referenced by work in flight: renders wait for theirs.
+        self.shadow = shadow;
+        self.forward = forward;
+        self.probe = None;
+        self.compiler = compiler;
+        self.check_validation()
     }
 
     /// The device in use.

@@ -1,5 +1,6 @@
 //! Physical device choice, the logical device, its graphics queue and the memory allocator.
 
+use std::ffi::CStr;
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -92,12 +93,13 @@ pub struct Device {
 
 impl Device {
     /// Opens the device named by `selector` (an index from `vk-render devices`, or part of a name,
-    /// case-insensitive), or else the best one: a discrete or integrated GPU first, then lavapipe.
+    /// case-insensitive), or else the best one: a discrete or integrated GPU first, then lavapipe; with the
+    /// device `extensions` asked for (the swapchain's, for the preview).
     ///
     /// # Errors
     /// `Error::NoVulkan` when there is no device at all, `Error::Device` when the selector matches none or
     /// the device lacks Vulkan 1.3 or a graphics queue.
-    pub fn new(instance: Arc<Instance>, selector: Option<&str>) -> Result<Arc<Device>> {
+    pub fn new(instance: Arc<Instance>, selector: Option<&str>, extensions: &[&'static CStr]) -> Result<Arc<Device>> {
         let devices = list_devices(&instance)?;
         let (physical, info) = match selector {
             Some(selector) => select(&devices, selector)?,
@@ -127,8 +129,10 @@ impl Device {
             vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
         // Shadow cubes are a cube array, one cube per light.
         let features = vk::PhysicalDeviceFeatures::default().image_cube_array(true);
+        let extension_names: Vec<*const std::ffi::c_char> = extensions.iter().map(|e| e.as_ptr()).collect();
         let create_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
+            .enabled_extension_names(&extension_names)
             .enabled_features(&features)
             .push_next(&mut features13);
         // SAFETY: create_info and what it points to outlive the call.
@@ -190,10 +194,36 @@ impl Device {
     /// # Errors
     /// What `record` returns, or `Error::Vulkan` from recording, submission or the wait.
     pub fn submit_and_wait(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
+        self.submit_and_wait_with(&[], &[], record)
+    }
+
+    /// As [`Device::submit_and_wait`], the submission first waiting for `wait` (semaphore, stage) and then
+    /// signalling `signal` (a swapchain's acquire and present semaphores).
+    ///
+    /// # Errors
+    /// What `record` returns, or `Error::Vulkan` from recording, submission or the wait.
+    pub fn submit_and_wait_with(
+        &self,
+        wait: &[(vk::Semaphore, vk::PipelineStageFlags2)],
+        signal: &[vk::Semaphore],
+        record: impl FnOnce(vk::CommandBuffer) -> Result<()>,
+    ) -> Result<()> {
         let alloc_info = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
+        let waits: Vec<_> = wait
+            .iter()
+            .map(|&(semaphore, stage)| vk::SemaphoreSubmitInfo::default().semaphore(semaphore).stage_mask(stage))
+            .collect();
+        let signals: Vec<_> = signal
+            .iter()
+            .map(|&semaphore| {
+                vk::SemaphoreSubmitInfo::default()
+                    .semaphore(semaphore)
+                    .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            })
+            .collect();
         // SAFETY: the pool belongs to this device; each step's handles are freed below on every path.
         unsafe {
             let cmd = self.raw.allocate_command_buffers(&alloc_info)?[0];
@@ -210,7 +240,10 @@ impl Device {
                 record(cmd)?;
                 self.raw.end_command_buffer(cmd)?;
                 let cmd_info = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
-                let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmd_info)];
+                let submit = [vk::SubmitInfo2::default()
+                    .wait_semaphore_infos(&waits)
+                    .command_buffer_infos(&cmd_info)
+                    .signal_semaphore_infos(&signals)];
                 self.raw.queue_submit2(self.queue, &submit, fence)?;
                 self.raw.wait_for_fences(&[fence], true, u64::MAX)?;
                 Ok(())
@@ -277,7 +310,7 @@ mod tests {
     #[test]
     fn the_validation_layer_reports_a_misuse() {
         // Proves that the messenger is wired: tests that see no message are clean, not deaf.
-        let device = Device::new(Arc::new(Instance::new(true).unwrap()), None).unwrap();
+        let device = Device::new(Arc::new(Instance::new(true, &[]).unwrap()), None, &[]).unwrap();
         assert!(device.instance.take_validation_messages().is_empty());
         let info = vk::BufferCreateInfo::default().size(0).usage(vk::BufferUsageFlags::VERTEX_BUFFER);
         // SAFETY: deliberately invalid (size 0) but harmless on lavapipe; the buffer is destroyed at once.

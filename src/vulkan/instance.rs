@@ -46,12 +46,13 @@ struct DebugMessenger {
 }
 
 impl Instance {
-    /// Loads Vulkan and creates an instance, with the Khronos validation layer when `validate` is set.
+    /// Loads Vulkan and creates an instance, with the Khronos validation layer when `validate` is set and
+    /// the instance `extensions` asked for (a window surface's, for the preview).
     ///
     /// # Errors
     /// `Error::NoVulkan` with installation advice when there is no loader, no driver, or (with `validate`)
     /// no validation layer.
-    pub fn new(validate: bool) -> Result<Instance> {
+    pub fn new(validate: bool, extensions: &[&'static CStr]) -> Result<Instance> {
         // SAFETY: loading libvulkan.so.1 runs its initialisers; the Vulkan loader is made for that.
         let entry = unsafe { ash::Entry::load() }
             .map_err(|e| Error::NoVulkan(format!("no Vulkan loader could be opened ({e}). {INSTALL_HINT}")))?;
@@ -73,7 +74,10 @@ impl Instance {
             .engine_name(c"vk-render")
             .api_version(vk::API_VERSION_1_3);
         let layers = if validate { vec![VALIDATION_LAYER.as_ptr()] } else { vec![] };
-        let extensions = if validate { vec![ext::debug_utils::NAME.as_ptr()] } else { vec![] };
+        let mut names: Vec<*const std::ffi::c_char> = extensions.iter().map(|e| e.as_ptr()).collect();
+        if validate {
+            names.push(ext::debug_utils::NAME.as_ptr());
+        }
         let log = Box::new(ValidationLog::default());
         let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
             .message_severity(
@@ -93,7 +97,7 @@ impl Instance {
         let mut create_info = vk::InstanceCreateInfo::default()
             .application_info(&app_info)
             .enabled_layer_names(&layers)
-            .enabled_extension_names(&extensions);
+            .enabled_extension_names(&names);
         if validate {
             // Chained here too so that messages from instance creation and destruction are caught.
             create_info = create_info.push_next(&mut messenger_info).push_next(&mut validation_features);

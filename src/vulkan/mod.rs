@@ -11,6 +11,8 @@ mod instance;
 mod pipeline;
 mod sampler;
 mod shader;
+#[cfg(feature = "preview")]
+mod swapchain;
 
 pub use buffer::{Buffer, BufferDesc};
 pub use descriptor::{Descriptor, DescriptorPool};
@@ -20,3 +22,5 @@ pub use instance::{Instance, ValidationLog, INSTALL_HINT};
 pub use pipeline::{GraphicsPipelineDesc, Pipeline, PipelineLayout};
 pub use sampler::Sampler;
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources};
+#[cfg(feature = "preview")]
+pub use swapchain::{Surface, Swapchain};

@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 const EMBEDDED: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
 /// The GLSL sources a compiler reads: those embedded at build time, of which any may be replaced.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ShaderSources {
     files: BTreeMap<String, String>,
 }
@@ -31,6 +31,32 @@ impl ShaderSources {
     pub fn with_file(mut self, path: &str, text: impl Into<String>) -> Self {
         self.files.insert(path.to_string(), text.into());
         self
+    }
+
+    /// Every file under `folder` (a shaders/ folder on disk, read for hot reloading).
+    ///
+    /// # Errors
+    /// The I/O error of a file or folder that cannot be read.
+    pub fn from_directory(folder: &std::path::Path) -> std::io::Result<Self> {
+        fn walk(
+            root: &std::path::Path,
+            dir: &std::path::Path,
+            files: &mut BTreeMap<String, String>,
+        ) -> std::io::Result<()> {
+            for entry in std::fs::read_dir(dir)? {
+                let path = entry?.path();
+                if path.is_dir() {
+                    walk(root, &path, files)?;
+                } else {
+                    let relative = path.strip_prefix(root).unwrap_or(&path).to_string_lossy().replace('\\', "/");
+                    files.insert(relative, std::fs::read_to_string(&path)?);
+                }
+            }
+            Ok(())
+        }
+        let mut files = BTreeMap::new();
+        walk(folder, folder, &mut files)?;
+        Ok(Self { files })
     }
 
     /// The paths of every file, relative to shaders/.
@@ -163,6 +189,12 @@ mod tests {
         let message = compiler.compile("forward.frag").unwrap_err().to_string();
         assert!(message.contains("forward.frag"), "{message}");
         assert!(message.contains("brdf/lambert.glsl:4:"), "{message}");
+    }
+
+    #[test]
+    fn the_shaders_folder_reads_as_the_embedded_sources() {
+        let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        assert_eq!(ShaderSources::from_directory(&folder).unwrap(), ShaderSources::default());
     }
 
     #[test]

@@ -1,0 +1,316 @@
+//! What the preview's keys and mouse do to the scene: pure state, no window, so it is unit-tested.
+
+use glam::Vec3;
+
+use crate::brdf::{Brdf, DiffuseModel};
+use crate::scene::{Camera, Scene, Shape};
+
+/// One user action.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Action {
+    /// Tab: select the next object.
+    NextObject,
+    /// 1 to 5: give the selected object this BRDF (0 lambert .. 4 cook-torrance).
+    SetBrdf(usize),
+    /// Up / Down: raise or lower the BRDF's main parameter (sigma, shininess or roughness).
+    MainParameter(i32),
+    /// Left / Right: lower or raise the metalness of a Cook-Torrance material.
+    Metalness(i32),
+    /// L: turn every light's shadows off, or back to the scene's.
+    ToggleShadows,
+    /// S: save a screenshot.
+    Screenshot,
+    /// R: back to the scene's camera.
+    ResetCamera,
+    /// Esc: quit.
+    Quit,
+    /// Resize the window (test hook only).
+    Resize(u32, u32),
+}
+
+impl Action {
+    /// Parses a test script: actions separated by commas, by key name ("Tab", "1".."5", "Up", "Down",
+    /// "Left", "Right", "L", "S", "R", "Esc") or "resize:WxH".
+    ///
+    /// # Errors
+    /// A message naming the entry that is not an action.
+    pub fn parse_script(script: &str) -> Result<Vec<Action>, String> {
+        script
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(|key| {
+                Ok(match key {
+                    "Tab" => Action::NextObject,
+                    "1" | "2" | "3" | "4" | "5" => Action::SetBrdf(key.parse::<usize>().unwrap_or(1) - 1),
+                    "Up" => Action::MainParameter(1),
+                    "Down" => Action::MainParameter(-1),
+                    "Left" => Action::Metalness(-1),
+                    "Right" => Action::Metalness(1),
+                    "L" => Action::ToggleShadows,
+                    "S" => Action::Screenshot,
+                    "R" => Action::ResetCamera,
+                    "Esc" => Action::Quit,
+                    _ => {
+                        let size = key.strip_prefix("resize:").and_then(|s| s.split_once('x'));
+                        let parsed = size.and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)));
+                        match parsed {
+                            Some((w, h)) if w > 0 && h > 0 => Action::Resize(w, h),
+                            _ => return Err(format!("`{key}` is not a preview action")),
+                        }
+                    }
+                })
+            })
+            .collect()
+    }
+}
+
+/// A camera orbiting the scene's look-at point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Orbit {
+    pub distance: f32,
+    /// Radians about the up axis (+y), from +z.
+    pub yaw: f32,
+    /// Radians above the horizontal plane, kept within +-1.5 so that up never meets the view direction.
+    pub pitch: f32,
+}
+
+impl Orbit {
+    /// The orbit that puts the camera where the scene has it.
+    pub fn from_camera(camera: &Camera) -> Self {
+        let offset = camera.position - camera.look_at;
+        let distance = offset.length();
+        Self { distance, yaw: offset.x.atan2(offset.z), pitch: (offset.y / distance).clamp(-1.0, 1.0).asin() }
+    }
+
+    /// Turns by a mouse drag of (dx, dy) pixels.
+    pub fn drag(&mut self, dx: f32, dy: f32) {
+        self.yaw -= dx * 0.01;
+        self.pitch = (self.pitch + dy * 0.01).clamp(-1.5, 1.5);
+    }
+
+    /// Moves closer (positive lines) or farther.
+    pub fn zoom(&mut self, lines: f32) {
+        self.distance = (self.distance * 0.9f32.powf(lines)).max(1e-3);
+    }
+
+    /// The camera position for this orbit around `target`.
+    pub fn position(&self, target: Vec3) -> Vec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        target + self.distance * Vec3::new(cp * sy, sp, cp * cy)
+    }
+}
+
+/// The preview's state: the selected object, the orbit and the scene as the user changed it.
+pub struct Controls {
+    pub selected: usize,
+    pub orbit: Orbit,
+    /// The scene file's shadows flags, restored when L is pressed again.
+    scene_shadows: Option<Vec<bool>>,
+}
+
+impl Controls {
+    /// Controls starting on the scene's own camera.
+    pub fn new(scene: &Scene) -> Self {
+        Self { selected: 0, orbit: Orbit::from_camera(&scene.camera), scene_shadows: None }
+    }
+
+    /// Applies an action to the scene (actions that are not about the scene do nothing here).
+    pub fn apply(&mut self, action: Action, scene: &mut Scene, original_camera: &Camera) {
+        let count = scene.objects.len();
+        match action {
+            Action::NextObject if count > 0 => self.selected = (self.selected + 1) % count,
+            Action::SetBrdf(index) => {
+                if let Some(object) = scene.objects.get_mut(self.selected) {
+                    object.brdf = switch_brdf(&object.brdf, index);
+                }
+            }
+            Action::MainParameter(step) => {
+                if let Some(object) = scene.objects.get_mut(self.selected) {
+                    object.brdf = change_main_parameter(object.brdf, step);
+                }
+            }
+            Action::Metalness(step) => {
+                if let Some(object) = scene.objects.get_mut(self.selected) {
+                    if let Brdf::CookTorrance { ref mut metalness, .. } = object.brdf {
+                        *metalness = (*metalness + 0.1 * step as f32).clamp(0.0, 1.0);
+                    }
+                }
+            }
+            Action::ToggleShadows => match self.scene_shadows.take() {
+                Some(flags) => scene.lights.iter_mut().zip(flags).for_each(|(light, on)| light.shadows = on),
+                None => {
+                    self.scene_shadows = Some(scene.lights.iter().map(|l| l.shadows).collect());
+                    scene.lights.iter_mut().for_each(|light| light.shadows = false);
+                }
+            },
+            Action::ResetCamera => self.orbit = Orbit::from_camera(original_camera),
+            _ => {}
+        }
+        self.selected = self.selected.min(count.saturating_sub(1));
+        scene.camera.position = self.orbit.position(scene.camera.look_at);
+    }
+
+    /// The window title: the selected object, its BRDF and parameters, and the frame time.
+    pub fn title(&self, scene: &Scene, frame_ms: f64) -> String {
+        let Some(object) = scene.objects.get(self.selected) else {
+            return format!("vk-render: no object - {frame_ms:.1} ms");
+        };
+        let shape = match object.shape {
+            Shape::Sphere { .. } => "sphere",
+            Shape::Plane { .. } => "plane",
+            Shape::Mesh { .. } => "mesh",
+        };
+        format!(
+            "vk-render: object {}/{} ({shape}, material {}): {} - {frame_ms:.1} ms",
+            self.selected + 1,
+            scene.objects.len(),
+            object.material,
+            describe(&object.brdf)
+        )
+    }
+}
+
+/// The BRDF's name and parameters, e.g. "oren-nayar sigma 0.30".
+pub fn describe(brdf: &Brdf) -> String {
+    match *brdf {
+        Brdf::Lambert { .. } => "lambert".into(),
+        Brdf::OrenNayar { sigma, .. } => format!("oren-nayar sigma {sigma:.2}"),
+        Brdf::Phong { shininess, .. } => format!("phong shininess {shininess:.0}"),
+        Brdf::BlinnPhong { shininess, .. } => format!("blinn-phong shininess {shininess:.0}"),
+        Brdf::CookTorrance { roughness, metalness, .. } => {
+            format!("cook-torrance roughness {roughness:.2} metalness {metalness:.1}")
+        }
+    }
+}
+
+/// The kd every model has.
+fn diffuse_colour(brdf: &Brdf) -> Vec3 {
+    match *brdf {
+        Brdf::Lambert { kd }
+        | Brdf::OrenNayar { kd, .. }
+        | Brdf::Phong { kd, .. }
+        | Brdf::BlinnPhong { kd, .. }
+        | Brdf::CookTorrance { kd, .. } => kd,
+    }
+}
+
+/// Another model with the same kd and the course's parameters: sigma 0.3; the plastic's ks 0.3 and
+/// shininess 32; Cook-Torrance with F0 = kd, roughness 0.3, metalness 0.5 and the Oren-Nayar diffuse lobe.
+/// Choosing the model the object already has keeps its parameters.
+pub fn switch_brdf(brdf: &Brdf, index: usize) -> Brdf {
+    let kd = diffuse_colour(brdf);
+    let ks = Vec3::splat(0.3);
+    let wanted = ["lambert", "oren-nayar", "phong", "blinn-phong", "cook-torrance"].get(index).copied();
+    if wanted == Some(brdf.name()) {
+        return *brdf;
+    }
+    match index {
+        1 => Brdf::OrenNayar { kd, sigma: 0.3 },
+        2 => Brdf::Phong { kd, ks, shininess: 32.0 },
+        3 => Brdf::BlinnPhong { kd, ks, shininess: 32.0 },
+        4 => Brdf::CookTorrance { kd, f0: kd, roughness: 0.3, metalness: 0.5, diffuse: DiffuseModel::OrenNayar },
+        _ => Brdf::Lambert { kd },
+    }
+}
+
+/// Sigma by 0.1 (from 0), shininess doubled or halved (from 1), roughness by 0.05 (within 0.05 and 1).
+pub fn change_main_parameter(brdf: Brdf, step: i32) -> Brdf {
+    let up = step > 0;
+    match brdf {
+        Brdf::OrenNayar { kd, sigma } => Brdf::OrenNayar { kd, sigma: (sigma + 0.1 * step as f32).max(0.0) },
+        Brdf::Phong { kd, ks, shininess } => Brdf::Phong { kd, ks, shininess: scale_shininess(shininess, up) },
+        Brdf::BlinnPhong { kd, ks, shininess } => {
+            Brdf::BlinnPhong { kd, ks, shininess: scale_shininess(shininess, up) }
+        }
+        Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse } => Brdf::CookTorrance {
+            kd,
+            f0,
+            roughness: (roughness + 0.05 * step as f32).clamp(0.05, 1.0),
+            metalness,
+            diffuse,
+        },
+        lambert @ Brdf::Lambert { .. } => lambert,
+    }
+}
+
+fn scale_shininess(shininess: f32, up: bool) -> f32 {
+    if up {
+        (shininess * 2.0).max(1.0)
+    } else {
+        (shininess / 2.0).max(1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+
+    fn figure_1() -> Scene {
+        let text = include_str!("../../assets/scenes/fig1-lambert.toml");
+        Scene::parse(text, Path::new("fig1.toml"), &[]).unwrap()
+    }
+
+    #[test]
+    fn keys_switch_the_selected_objects_brdf_and_its_parameters() {
+        let mut scene = figure_1();
+        let camera = scene.camera;
+        let mut controls = Controls::new(&scene);
+        for action in Action::parse_script("2, Up, Up").unwrap() {
+            controls.apply(action, &mut scene, &camera);
+        }
+        assert!(matches!(scene.objects[0].brdf, Brdf::OrenNayar { sigma, .. } if (sigma - 0.5).abs() < 1e-6));
+        assert_eq!(scene.objects[1].brdf, figure_1().objects[1].brdf, "the plane is not selected");
+        for action in Action::parse_script("Tab,5,Right,Right,Down").unwrap() {
+            controls.apply(action, &mut scene, &camera);
+        }
+        assert_eq!(controls.selected, 1);
+        let Brdf::CookTorrance { roughness, metalness, kd, f0, .. } = scene.objects[1].brdf else {
+            panic!("{:?}", scene.objects[1].brdf)
+        };
+        assert!((roughness - 0.25).abs() < 1e-6 && (metalness - 0.7).abs() < 1e-6);
+        assert_eq!((kd, f0), (Vec3::X, Vec3::X), "kd kept, F0 = kd");
+        assert!(controls
+            .title(&scene, 12.34)
+            .contains("object 2/2 (plane, material red): cook-torrance roughness 0.25 metalness 0.7 - 12.3 ms"));
+    }
+
+    #[test]
+    fn shadows_toggle_off_and_back() {
+        let mut scene = figure_1();
+        let camera = scene.camera;
+        let mut controls = Controls::new(&scene);
+        controls.apply(Action::ToggleShadows, &mut scene, &camera);
+        assert!(!scene.lights[0].shadows);
+        controls.apply(Action::ToggleShadows, &mut scene, &camera);
+        assert!(scene.lights[0].shadows);
+    }
+
+    #[test]
+    fn the_orbit_starts_on_the_scene_camera_and_resets_to_it() {
+        let mut scene = figure_1();
+        let camera = scene.camera;
+        let mut controls = Controls::new(&scene);
+        assert!(controls.orbit.position(camera.look_at).abs_diff_eq(camera.position, 1e-5));
+        controls.orbit.drag(120.0, -40.0);
+        controls.orbit.zoom(2.0);
+        controls.apply(Action::NextObject, &mut scene, &camera);
+        assert!(!scene.camera.position.abs_diff_eq(camera.position, 1e-3));
+        assert!(((scene.camera.position - camera.look_at).length() - 0.81).abs() < 1e-4, "zoomed by 0.9^2");
+        controls.apply(Action::ResetCamera, &mut scene, &camera);
+        assert!(scene.camera.position.abs_diff_eq(camera.position, 1e-5));
+    }
+
+    #[test]
+    fn scripts_parse_or_name_the_bad_entry() {
+        assert_eq!(
+            Action::parse_script("Tab, 3 ,resize:200x150,Esc").unwrap(),
+            vec![Action::NextObject, Action::SetBrdf(2), Action::Resize(200, 150), Action::Quit]
+        );
+        assert!(Action::parse_script("Tab,6").unwrap_err().contains("`6`"));
+        assert!(Action::parse_script("resize:0x10").is_err());
+    }
+}

@@ -1,0 +1,540 @@
+//! `vk-render preview`: the offscreen renderer's images shown live in a window, with an orbit camera, keys
+//! to change the selected object's material, and hot reloading of the scene file and the shaders.
+//!
+//! Each frame is the very image `vk-render render` makes (same renderer, shaders and pipelines, same
+//! output transform), copied into a swapchain image and presented: what the window shows is what a render
+//! writes, byte for byte.
+
+mod controls;
+
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant, SystemTime};
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+pub use controls::{Action, Controls, Orbit};
+
+use crate::error::{Error, Result};
+use crate::scene::{Camera, Override, Scene};
+use crate::vulkan::{layer_range, BufferDesc, ShaderSources, Surface, Swapchain};
+use crate::{Renderer, RendererOptions};
+
+/// How to run the preview.
+pub struct PreviewOptions {
+    pub scene: PathBuf,
+    pub overrides: Vec<Override>,
+    pub renderer: RendererOptions,
+    /// Stop after this many presented frames (for headless checks).
+    pub frames: Option<u64>,
+    /// Stop after this long (a test hook, for hot reloading).
+    pub duration: Option<Duration>,
+    /// Save the last presented frame here on exit.
+    pub screenshot: Option<PathBuf>,
+    /// Actions applied one per frame from the first (a test hook standing in for the keyboard).
+    pub script: Vec<Action>,
+    /// A shaders/ folder watched and reloaded on change (the source tree's, when it is there).
+    pub shaders: Option<PathBuf>,
+}
+
+/// Opens the window and runs until it is closed, Esc is pressed or `frames` frames were presented.
+///
+/// # Errors
+/// The scene's error before the window opens; `Error::Preview` when no window can be made; Vulkan and
+/// validation errors while rendering. A scene or shader broken while the preview runs is logged, and the
+/// last good one kept.
+pub fn run(options: PreviewOptions) -> Result<()> {
+    let scene = Scene::load(&options.scene, &options.overrides)?;
+    let event_loop = EventLoop::new().map_err(|e| Error::Preview(format!("cannot open a window: {e}")))?;
+    let mut app = App { options, scene: Some(scene), running: None, error: None };
+    event_loop.run_app(&mut app).map_err(|e| Error::Preview(format!("the window's event loop failed: {e}")))?;
+    match app.error {
+        Some(error) => Err(error),
+        None => Ok(()),
+    }
+}
+
+struct App {
+    options: PreviewOptions,
+    /// The scene until the window opens.
+    scene: Option<Scene>,
+    running: Option<Running>,
+    error: Option<Error>,
+}
+
+impl App {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: Error) {
+        self.error = Some(error);
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.running.is_some() {
+            return;
+        }
+        let Some(scene) = self.scene.take() else { return };
+        match Running::new(event_loop, &mut self.options, scene) {
+            Ok(running) => self.running = Some(running),
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let Some(running) = self.running.as_mut() else { return };
+        let outcome = match event {
+            WindowEvent::CloseRequested => {
+                event_loop.exit();
+                Ok(())
+            }
+            WindowEvent::RedrawRequested => running.redraw(event_loop),
+            WindowEvent::Resized(_) => {
+                running.window.request_redraw();
+                Ok(())
+            }
+            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed && !event.repeat => {
+                match key_action(&event.logical_key) {
+                    Some(action) => running.act(action, event_loop),
+                    None => Ok(()),
+                }
+            }
+            WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
+                running.dragging = state == ElementState::Pressed;
+                Ok(())
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let (true, Some((x, y))) = (running.dragging, running.cursor) {
+                    running.controls.orbit.drag((position.x - x) as f32, (position.y - y) as f32);
+                    running.camera_moved();
+                }
+                running.cursor = Some((position.x, position.y));
+                Ok(())
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                running.controls.orbit.zoom(lines);
+                running.camera_moved();
+                Ok(())
+            }
+            _ => Ok(()),
+        };
+        if let Err(e) = outcome {
+            self.fail(event_loop, e);
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(running) = self.running.as_mut() else { return };
+        running.hot_reload();
+        if running.options_frames.is_some() || running.deadline.is_some() || !running.script.is_empty() {
+            // Headless runs draw frame after frame until done.
+            running.window.request_redraw();
+            event_loop.set_control_flow(ControlFlow::Poll);
+        } else {
+            // Wake up twice a second to look for edited files.
+            event_loop.set_control_flow(ControlFlow::WaitUntil(Instant::now() + RELOAD_INTERVAL));
+        }
+    }
+
+    fn exiting(&mut self, _: &ActiveEventLoop) {
+        // Vulkan objects go before the window they present to.
+        self.running = None;
+    }
+}
+
+/// How often the scene file and the shaders are looked at.
+const RELOAD_INTERVAL: Duration = Duration::from_millis(500);
+
+fn key_action(key: &Key) -> Option<Action> {
+    Some(match key {
+        Key::Named(NamedKey::Tab) => Action::NextObject,
+        Key::Named(NamedKey::ArrowUp) => Action::MainParameter(1),
+        Key::Named(NamedKey::ArrowDown) => Action::MainParameter(-1),
+        Key::Named(NamedKey::ArrowLeft) => Action::Metalness(-1),
+        Key::Named(NamedKey::ArrowRight) => Action::Metalness(1),
+        Key::Named(NamedKey::Escape) => Action::Quit,
+        Key::Character(c) => match c.as_str() {
+            "1" | "2" | "3" | "4" | "5" => Action::SetBrdf(c.parse::<usize>().ok()? - 1),
+            "l" | "L" => Action::ToggleShadows,
+            "s" | "S" => Action::Screenshot,
+            "r" | "R" => Action::ResetCamera,
+            _ => return None,
+        },
+        _ => return None,
+    })
+}
+
+/// Everything the open window needs. Field order is drop order: the swapchain before its surface, both
+/// before the renderer's device, and the window last.
+struct Running {
+    swapchain: Option<Swapchain>,
+    surface: Arc<Surface>,
+    renderer: Renderer,
+    /// The scene as last read, the scene as the user changed it, and the last one that rendered.
+    file_scene: Scene,
+    scene: Scene,
+    last_good: Scene,
+    original_camera: Camera,
+    controls: Controls,
+    dragging: bool,
+    cursor: Option<(f64, f64)>,
+    script: VecDeque<Action>,
+    options_frames: Option<u64>,
+    deadline: Option<Instant>,
+    presented: u64,
+    screenshot_at_exit: Option<PathBuf>,
+    screenshot_next: Option<PathBuf>,
+    screenshots_saved: u32,
+    scene_path: PathBuf,
+    overrides: Vec<Override>,
+    watched: Watched,
+    window: Arc<Window>,
+}
+
+impl Running {
+    fn new(event_loop: &ActiveEventLoop, options: &mut PreviewOptions, scene: Scene) -> Result<Self> {
+        let window_error = |e: &dyn std::fmt::Display| Error::Preview(format!("cannot open a window: {e}"));
+        let attributes = Window::default_attributes()
+            .with_title("vk-render")
+            .with_inner_size(PhysicalSize::new(scene.image.width, scene.image.height));
+        let window = Arc::new(event_loop.create_window(attributes).map_err(|e| window_error(&e))?);
+        let display = event_loop.display_handle().map_err(|e| window_error(&e))?.as_raw();
+        let window_handle = window.window_handle().map_err(|e| window_error(&e))?.as_raw();
+        let mut renderer_options = std::mem::take(&mut options.renderer);
+        renderer_options.instance_extensions.extend(Surface::required_extensions(display)?);
+        renderer_options.device_extensions.push(ash::khr::swapchain::NAME);
+        let renderer = Renderer::new(renderer_options)?;
+        let surface = Arc::new(Surface::new(&renderer.device().instance, display, window_handle)?);
+        let controls = Controls::new(&scene);
+        Ok(Self {
+            swapchain: None,
+            surface,
+            renderer,
+            file_scene: scene.clone(),
+            last_good: scene.clone(),
+            original_camera: scene.camera,
+            scene,
+            controls,
+            dragging: false,
+            cursor: None,
+            script: options.script.drain(..).collect(),
+            options_frames: options.frames,
+            deadline: options.duration.map(|d| Instant::now() + d),
+            presented: 0,
+            screenshot_at_exit: options.screenshot.clone(),
+            screenshot_next: None,
+            screenshots_saved: 0,
+            scene_path: options.scene.clone(),
+            overrides: options.overrides.clone(),
+            watched: Watched::new(&options.scene, options.shaders.clone()),
+            window,
+        })
+    }
+
+    fn camera_moved(&mut self) {
+        self.scene.camera.position = self.controls.orbit.position(self.scene.camera.look_at);
+        self.window.request_redraw();
+    }
+
+    fn act(&mut self, action: Action, event_loop: &ActiveEventLoop) -> Result<()> {
+        match action {
+            Action::Quit => event_loop.exit(),
+            Action::Screenshot => {
+                self.screenshots_saved += 1;
+                self.screenshot_next =
+                    Some(PathBuf::from(format!("vk-render-screenshot-{}.png", self.screenshots_saved)));
+            }
+            Action::Resize(width, height) => {
+                let _ = self.window.request_inner_size(PhysicalSize::new(width, height));
+            }
+            other => self.controls.apply(other, &mut self.scene, &self.original_camera),
+        }
+        self.window.request_redraw();
+        Ok(())
+    }
+
+    /// Looks for edited files; a scene or shaders that fail keep the last good ones, with the error logged.
+    fn hot_reload(&mut self) {
+        let (scene_changed, shaders_changed) = self.watched.poll();
+        if scene_changed {
+            match Scene::load(&self.scene_path, &self.overrides) {
+                Ok(scene) => {
+                    log::info!("reloaded {}", self.scene_path.display());
+                    self.file_scene = scene.clone();
+                    self.original_camera = scene.camera;
+                    self.scene = scene;
+                    self.controls.selected = self.controls.selected.min(self.scene.objects.len().saturating_sub(1));
+                    self.scene.camera.position = self.controls.orbit.position(self.scene.camera.look_at);
+                }
+                Err(e) => log::error!("{e} (keeping the last good scene)"),
+            }
+            self.window.request_redraw();
+        }
+        if let Some(folder) = shaders_changed {
+            let reloaded = ShaderSources::from_directory(&folder)
+                .map_err(|e| Error::Output { path: folder.clone(), message: format!("cannot read the shaders: {e}") })
+                .and_then(|sources| self.renderer.set_shaders(sources));
+            match reloaded {
+                Ok(()) => log::info!("reloaded the shaders of {}", folder.display()),
+                Err(e) => log::error!("{e} (keeping the last good shaders)"),
+            }
+            self.window.request_redraw();
+        }
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        if let Some(action) = self.script.pop_front() {
+            self.act(action, event_loop)?;
+        }
+        let size = self.window.inner_size();
+        if size.width == 0 || size.height == 0 {
+            return Ok(()); // minimised: nothing to draw into
+        }
+        let extent = self.swapchain.as_ref().map(|s| s.extent);
+        if extent != Some(vk::Extent2D { width: size.width, height: size.height }) {
+            self.swapchain = None;
+            self.swapchain = Some(Swapchain::new(self.renderer.device(), &self.surface, size.width, size.height)?);
+        }
+        let started = Instant::now();
+        let last = self.options_frames.is_some_and(|n| self.presented + 1 >= n)
+            || self.deadline.is_some_and(|deadline| Instant::now() >= deadline);
+        let screenshot =
+            self.screenshot_next.take().or_else(|| if last { self.screenshot_at_exit.clone() } else { None });
+        if !self.present(screenshot.as_deref())? {
+            return Ok(()); // the swapchain went out of date: made anew on the next frame
+        }
+        self.presented += 1;
+        let frame_ms = started.elapsed().as_secs_f64() * 1e3;
+        self.window.set_title(&self.controls.title(&self.scene, frame_ms));
+        if last {
+            event_loop.exit();
+        }
+        Ok(())
+    }
+
+    /// Renders the scene at the swapchain's size and presents it, saving it to `screenshot` if given.
+    /// Returns false when the swapchain was out of date (it is dropped, to be made anew).
+    fn present(&mut self, screenshot: Option<&Path>) -> Result<bool> {
+        let Some(swapchain) = self.swapchain.as_ref() else { return Ok(false) };
+        let (width, height) = (swapchain.extent.width, swapchain.extent.height);
+        self.scene.image.width = width;
+        self.scene.image.height = height;
+        let hdr = match self.renderer.render(&self.scene) {
+            Ok(hdr) => {
+                self.last_good = self.scene.clone();
+                hdr
+            }
+            Err(e @ (Error::Scene { .. } | Error::Mesh { .. })) => {
+                log::error!("{e} (keeping the last good scene)");
+                self.scene = self.last_good.clone();
+                return Ok(true);
+            }
+            Err(e) => return Err(e),
+        };
+        let rgb = hdr.to_rgb8(&self.scene.image);
+        let bgra = swapchain.format == vk::Format::B8G8R8A8_UNORM;
+        let texels: Vec<u8> = rgb
+            .pixels()
+            .flat_map(|p| {
+                let [r, g, b] = p.0;
+                if bgra {
+                    [b, g, r, 255]
+                } else {
+                    [r, g, b, 255]
+                }
+            })
+            .collect();
+        let device = self.renderer.device().clone();
+        let staging = device.create_buffer_with_data(&texels, vk::BufferUsageFlags::TRANSFER_SRC, "frame upload")?;
+        let readback = match screenshot {
+            Some(_) => Some(device.create_buffer(
+                BufferDesc {
+                    size: texels.len() as u64,
+                    usage: vk::BufferUsageFlags::TRANSFER_DST,
+                    location: MemoryLocation::GpuToCpu,
+                },
+                "screenshot",
+            )?),
+            None => None,
+        };
+
+        // SAFETY: the swapchain and its semaphore are alive.
+        let acquired = unsafe {
+            swapchain.loader.acquire_next_image(swapchain.raw, u64::MAX, swapchain.acquired, vk::Fence::null())
+        };
+        let index = match acquired {
+            Ok((index, _suboptimal)) => index as usize,
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => {
+                self.swapchain = None;
+                return Ok(false);
+            }
+            Err(e) => return Err(e.into()),
+        };
+        let image = swapchain.images[index];
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            })
+            .image_extent(vk::Extent3D { width, height, depth: 1 });
+        let transition = |old,
+                          new,
+                          src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+                          dst: (vk::PipelineStageFlags2, vk::AccessFlags2)| {
+            vk::ImageMemoryBarrier2::default()
+                .src_stage_mask(src.0)
+                .src_access_mask(src.1)
+                .dst_stage_mask(dst.0)
+                .dst_access_mask(dst.1)
+                .old_layout(old)
+                .new_layout(new)
+                .image(image)
+                .subresource_range(layer_range(vk::ImageAspectFlags::COLOR, 0, 1))
+        };
+        let copy_write = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
+        let copy_read = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_READ);
+        let present = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
+        device.submit_and_wait_with(
+            &[(swapchain.acquired, vk::PipelineStageFlags2::COPY)],
+            &[swapchain.rendered[index]],
+            |cmd| {
+                let record = |barrier: vk::ImageMemoryBarrier2| {
+                    let barriers = [barrier];
+                    // SAFETY: the command buffer is recording; the image is acquired.
+                    unsafe {
+                        device.raw.cmd_pipeline_barrier2(
+                            cmd,
+                            &vk::DependencyInfo::default().image_memory_barriers(&barriers),
+                        );
+                    }
+                };
+                record(transition(
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE),
+                    copy_write,
+                ));
+                // SAFETY: as above; the staging buffer outlives the submission.
+                unsafe {
+                    device.raw.cmd_copy_buffer_to_image(
+                        cmd,
+                        staging.raw,
+                        image,
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        &[region],
+                    );
+                }
+                let mut layout = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+                if let Some(readback) = &readback {
+                    // Read the swapchain image itself: the screenshot is what is presented.
+                    record(transition(layout, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, copy_write, copy_read));
+                    layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+                    // SAFETY: as above.
+                    unsafe {
+                        device.raw.cmd_copy_image_to_buffer(cmd, image, layout, readback.raw, &[region]);
+                    }
+                    readback.record_host_read_barrier(
+                        cmd,
+                        vk::PipelineStageFlags2::COPY,
+                        vk::AccessFlags2::TRANSFER_WRITE,
+                    );
+                }
+                record(transition(layout, vk::ImageLayout::PRESENT_SRC_KHR, copy_write, present));
+                Ok(())
+            },
+        )?;
+        let waits = [swapchain.rendered[index]];
+        let swapchains = [swapchain.raw];
+        let indices = [index as u32];
+        let info =
+            vk::PresentInfoKHR::default().wait_semaphores(&waits).swapchains(&swapchains).image_indices(&indices);
+        // SAFETY: the image was acquired and its copy submitted, signalling the semaphore presentation waits for.
+        match unsafe { swapchain.loader.queue_present(device.queue, &info) } {
+            Ok(false) => {}
+            Ok(true) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => self.swapchain = None,
+            Err(e) => return Err(e.into()),
+        }
+        if let (Some(path), Some(readback)) = (screenshot, &readback) {
+            save_screenshot(readback.bytes()?, width, height, bgra, path)?;
+        }
+        Ok(true)
+    }
+}
+
+/// Writes a swapchain image's bytes (BGRA or RGBA) as an RGB PNG.
+fn save_screenshot(bytes: &[u8], width: u32, height: u32, bgra: bool, path: &Path) -> Result<()> {
+    let rgb: Vec<u8> =
+        bytes.chunks_exact(4).flat_map(|t| if bgra { [t[2], t[1], t[0]] } else { [t[0], t[1], t[2]] }).collect();
+    let image = image::RgbImage::from_raw(width, height, rgb).ok_or_else(|| Error::Output {
+        path: path.to_path_buf(),
+        message: "the screenshot has the wrong size".into(),
+    })?;
+    image.save(path).map_err(|e| Error::Output {
+        path: path.to_path_buf(),
+        message: format!("cannot write the screenshot: {e}"),
+    })?;
+    log::info!("saved {}", path.display());
+    Ok(())
+}
+
+/// The scene file's and the shaders' modification times, to notice edits.
+struct Watched {
+    scene: PathBuf,
+    scene_stamp: Option<SystemTime>,
+    shaders: Option<PathBuf>,
+    shaders_stamp: Option<SystemTime>,
+    last_look: Instant,
+}
+
+impl Watched {
+    fn new(scene: &Path, shaders: Option<PathBuf>) -> Self {
+        let scene_stamp = modified(scene);
+        let shaders_stamp = shaders.as_deref().and_then(newest_in);
+        Self { scene: scene.to_path_buf(), scene_stamp, shaders, shaders_stamp, last_look: Instant::now() }
+    }
+
+    /// Whether the scene changed, and the shaders' folder if a shader did, since the last look.
+    fn poll(&mut self) -> (bool, Option<PathBuf>) {
+        if self.last_look.elapsed() < RELOAD_INTERVAL {
+            return (false, None);
+        }
+        self.last_look = Instant::now();
+        let scene_stamp = modified(&self.scene);
+        let scene_changed = scene_stamp != self.scene_stamp;
+        self.scene_stamp = scene_stamp;
+        let shaders_stamp = self.shaders.as_deref().and_then(newest_in);
+        let shaders_changed = shaders_stamp != self.shaders_stamp;
+        self.shaders_stamp = shaders_stamp;
+        (scene_changed, if shaders_changed { self.shaders.clone() } else { None })
+    }
+}
+
+fn modified(path: &Path) -> Option<SystemTime> {
+    std::fs::metadata(path).and_then(|m| m.modified()).ok()
+}
+
+/// The newest modification time of the files under a folder.
+fn newest_in(folder: &Path) -> Option<SystemTime> {
+    let mut newest = None;
+    for entry in std::fs::read_dir(folder).ok()?.flatten() {
+        let path = entry.path();
+        let stamp = if path.is_dir() { newest_in(&path) } else { modified(&path) };
+        newest = newest.max(stamp);
+    }
+    newest
+}

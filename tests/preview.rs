@@ -1,0 +1,169 @@
+//! The windowed preview under Xvfb (package xvfb, installed by `make test`): what it presents equals the
+//! offscreen render, simulated keys change the image as they should, resizing and hot reloading work, and
+//! the validation layer stays quiet (every run uses --validate and must exit 0).
+#![cfg(feature = "preview")]
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+use std::time::Duration;
+
+use common::*;
+
+/// Runs `vk-render --validate preview ARGS` in a virtual X server.
+fn preview(args: &[&str]) -> Output {
+    let runtime = temp_dir();
+    Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x1024x24", env!("CARGO_BIN_EXE_vk-render"), "--validate", "preview"])
+        .args(args)
+        .env("XDG_RUNTIME_DIR", runtime.path())
+        .output()
+        .expect("xvfb-run (package xvfb: run `make setup-test`)")
+}
+
+fn succeeded(output: &Output) {
+    assert!(
+        output.status.success(),
+        "preview failed: {}\n{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn offscreen(scene: &str, overrides: &[&str]) -> image::RgbImage {
+    let scene = asset_scene(scene, overrides);
+    render(&scene).to_rgb8(&scene.image)
+}
+
+fn assert_same(shot: &image::RgbImage, expected: &image::RgbImage, what: &str) {
+    assert_eq!(shot.dimensions(), expected.dimensions(), "{what}");
+    let everything = vec![false; (shot.width() * shot.height()) as usize];
+    let c = vk_render::compare::compare(shot, expected, &everything);
+    assert!(c.max <= 1 && c.fraction_over_3 == 0.0, "{what}: {c}");
+}
+
+#[test]
+fn the_presented_frame_is_the_offscreen_render() {
+    let folder = temp_dir();
+    let shot = folder.path().join("shot.png");
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let output = preview(&[
+        scene.to_str().unwrap(),
+        "--frames",
+        "3",
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--width",
+        "320",
+        "--height",
+        "240",
+    ]);
+    succeeded(&output);
+    let shot = image::open(&shot).unwrap().into_rgb8();
+    assert_same(&shot, &offscreen("fig1-lambert.toml", &["image.width=320", "image.height=240"]), "figure 1");
+}
+
+#[test]
+fn simulated_keys_switch_the_brdf_and_the_image_follows() {
+    let folder = temp_dir();
+    let shot = folder.path().join("shot.png");
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    // 2: Oren-Nayar with sigma 0.3 on the selected (first) object; Up: sigma 0.4.
+    let output = preview(&[
+        scene.to_str().unwrap(),
+        "--frames",
+        "4",
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--width",
+        "320",
+        "--height",
+        "240",
+        "--keys",
+        "2,Up",
+    ]);
+    succeeded(&output);
+    let shot = image::open(&shot).unwrap().into_rgb8();
+    let size = ["image.width=320", "image.height=240"];
+    let expected =
+        offscreen("fig1-lambert.toml", &[size[0], size[1], "material.grey.brdf=oren-nayar", "material.grey.sigma=0.4"]);
+    assert_same(&shot, &expected, "after keys 2, Up");
+    assert_ne!(shot, offscreen("fig1-lambert.toml", &size), "the keys changed nothing");
+}
+
+#[test]
+fn resizing_mid_run_renders_at_the_new_size() {
+    let folder = temp_dir();
+    let shot = folder.path().join("shot.png");
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let output = preview(&[
+        scene.to_str().unwrap(),
+        "--frames",
+        "6",
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--width",
+        "320",
+        "--height",
+        "240",
+        "--keys",
+        "resize:200x150",
+    ]);
+    succeeded(&output);
+    let shot = image::open(&shot).unwrap().into_rgb8();
+    assert_same(&shot, &offscreen("fig1-lambert.toml", &["image.width=200", "image.height=150"]), "after resizing");
+}
+
+#[test]
+fn edited_files_are_reloaded_and_broken_ones_keep_the_last_good_image() {
+    let folder = temp_dir();
+    let scene_path = folder.path().join("scene.toml");
+    let shaders = folder.path().join("shaders");
+    copy_tree(&root().join("shaders"), &shaders);
+    let original = std::fs::read_to_string(root().join("assets/scenes/fig1-lambert.toml")).unwrap();
+    std::fs::write(&scene_path, &original).unwrap();
+    let shot = folder.path().join("shot.png");
+    let runtime = temp_dir();
+    let child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x1024x24", env!("CARGO_BIN_EXE_vk-render"), "--validate", "preview"])
+        .args([scene_path.to_str().unwrap(), "--shaders", shaders.to_str().unwrap(), "--seconds", "12"])
+        .args(["--screenshot", shot.to_str().unwrap(), "--width", "160", "--height", "120"])
+        .env("XDG_RUNTIME_DIR", runtime.path())
+        .stderr(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let pause = || std::thread::sleep(Duration::from_millis(3500));
+    pause();
+    // A broken shader and a broken scene: each logged, the last good ones kept.
+    let lambert = shaders.join("brdf/lambert.glsl");
+    let good_shader = std::fs::read_to_string(&lambert).unwrap();
+    std::fs::write(&lambert, good_shader.replace("return kd * INV_PI;", "return kd * ;")).unwrap();
+    std::fs::write(&scene_path, original.replace("radius = 1.0", "radius = -1.0")).unwrap();
+    pause();
+    // Mended: the shader back, and a brighter sphere, which the last frame must show.
+    std::fs::write(&lambert, &good_shader).unwrap();
+    std::fs::write(&scene_path, original.replace("kd = [0.5, 0.5, 0.5]", "kd = [0.9, 0.9, 0.9]")).unwrap();
+    let output = child.wait_with_output().unwrap();
+    succeeded(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("brdf/lambert.glsl") && stderr.contains("keeping the last good shaders"), "{stderr}");
+    assert!(stderr.contains("object.0.radius = -1") && stderr.contains("keeping the last good scene"), "{stderr}");
+    let shot = image::open(&shot).unwrap().into_rgb8();
+    let expected =
+        offscreen("fig1-lambert.toml", &["image.width=160", "image.height=120", "material.grey.kd=[0.9, 0.9, 0.9]"]);
+    assert_same(&shot, &expected, "after the reloads");
+}
+
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap().flatten() {
+        let target = to.join(entry.file_name());
+        if entry.path().is_dir() {
+            copy_tree(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
+}
