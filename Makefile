@@ -3,8 +3,10 @@
 
 # Debian packages, by what needs them.
 RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1 glmark2-data
+# The preview's window: winit opens these X11 libraries at run time.
+PREVIEW_PACKAGES := libx11-6 libx11-xcb1 libxcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon0 libxkbcommon-x11-0
 BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools
-TEST_PACKAGES := vulkan-validationlayers xvfb
+TEST_PACKAGES := vulkan-validationlayers xvfb xauth
 
 CARGO ?= cargo
 BIN := target/release/vk-render
@@ -16,7 +18,7 @@ all: render
 
 ## setup: install the packages to build and run vk-render (apt-get; quiet when all are present)
 setup:
-	@scripts/install-packages.sh $(RUNTIME_PACKAGES) $(BUILD_PACKAGES)
+	@scripts/install-packages.sh $(RUNTIME_PACKAGES) $(PREVIEW_PACKAGES) $(BUILD_PACKAGES)
 	@command -v $(CARGO) >/dev/null || { echo "cargo is missing: install Rust from https://rustup.rs" >&2; exit 1; }
 
 ## setup-test: also the Khronos validation layer, which every rendering test turns on
