@@ -11,15 +11,22 @@ use std::time::Duration;
 
 use common::*;
 
-/// Runs `vk-render --validate preview ARGS` in a virtual X server.
-fn preview(args: &[&str]) -> Output {
+/// `vk-render --validate preview ARGS` in a virtual X server, with a private runtime folder (kept alive by
+/// the returned guard), as the loader wants under Xvfb.
+fn preview_command(args: &[&str]) -> (Command, tempfile::TempDir) {
     let runtime = temp_dir();
-    Command::new("xvfb-run")
+    let mut command = Command::new("xvfb-run");
+    command
         .args(["-a", "-s", "-screen 0 1280x1024x24", env!("CARGO_BIN_EXE_vk-render"), "--validate", "preview"])
         .args(args)
-        .env("XDG_RUNTIME_DIR", runtime.path())
-        .output()
-        .expect("xvfb-run (package xvfb: run `make setup-test`)")
+        .env("XDG_RUNTIME_DIR", runtime.path());
+    (command, runtime)
+}
+
+/// Runs the preview to its end.
+fn preview(args: &[&str]) -> Output {
+    let (mut command, _runtime) = preview_command(args);
+    command.output().expect("xvfb-run (package xvfb: run `make setup-test`)")
 }
 
 /// Exit status 0, and no validation message at any time, teardown included (they are logged).
@@ -122,16 +129,20 @@ fn edited_files_are_reloaded_and_broken_ones_keep_the_last_good_image() {
     let original = std::fs::read_to_string(root().join("assets/scenes/fig1-lambert.toml")).unwrap();
     std::fs::write(&scene_path, &original).unwrap();
     let shot = folder.path().join("shot.png");
-    let runtime = temp_dir();
-    let child = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x1024x24", env!("CARGO_BIN_EXE_vk-render"), "--validate", "preview"])
-        .args([scene_path.to_str().unwrap(), "--shaders", shaders.to_str().unwrap(), "--seconds", "12"])
-        .args(["--screenshot", shot.to_str().unwrap(), "--width", "160", "--height", "120"])
-        .env("XDG_RUNTIME_DIR", runtime.path())
-        .stderr(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    let (mut command, _runtime) = preview_command(&[
+        scene_path.to_str().unwrap(),
+        "--shaders",
+        shaders.to_str().unwrap(),
+        "--seconds",
+        "12",
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--width",
+        "160",
+        "--height",
+        "120",
+    ]);
+    let child = command.stderr(std::process::Stdio::piped()).stdout(std::process::Stdio::piped()).spawn().unwrap();
     let pause = || std::thread::sleep(Duration::from_millis(3500));
     pause();
     // A broken shader and a broken scene: each logged, the last good ones kept.

@@ -26,7 +26,9 @@ pub use controls::{Action, Controls, Orbit};
 
 use crate::error::{Error, Result};
 use crate::scene::{Camera, Override, Scene};
-use crate::vulkan::{layer_range, BufferDesc, ShaderSources, Surface, Swapchain};
+use crate::vulkan::{
+    layer_range, layout_transition, whole_image_copy, Access, BufferDesc, ShaderSources, Surface, Swapchain,
+};
 use crate::{Renderer, RendererOptions};
 
 /// How to run the preview.
@@ -384,27 +386,9 @@ impl Running {
             Err(e) => return Err(e.into()),
         };
         let image = swapchain.images[index];
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            })
-            .image_extent(vk::Extent3D { width, height, depth: 1 });
-        let transition = |old,
-                          new,
-                          src: (vk::PipelineStageFlags2, vk::AccessFlags2),
-                          dst: (vk::PipelineStageFlags2, vk::AccessFlags2)| {
-            vk::ImageMemoryBarrier2::default()
-                .src_stage_mask(src.0)
-                .src_access_mask(src.1)
-                .dst_stage_mask(dst.0)
-                .dst_access_mask(dst.1)
-                .old_layout(old)
-                .new_layout(new)
-                .image(image)
-                .subresource_range(layer_range(vk::ImageAspectFlags::COLOR, 0, 1))
+        let region = whole_image_copy(width, height);
+        let transition = |old, new, src: Access, dst: Access| {
+            layout_transition(image, layer_range(vk::ImageAspectFlags::COLOR, 0, 1), old, new, src, dst)
         };
         let copy_write = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
         let copy_read = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_READ);

@@ -17,8 +17,8 @@ use crate::mesh::{place_objects, PlacedMesh};
 use crate::output::HdrImage;
 use crate::scene::Scene;
 use crate::vulkan::{
-    BufferDesc, Descriptor, Device, DeviceInfo, ImageDesc, Instance, PipelineLayout, Sampler, ShaderCompiler,
-    ShaderSources,
+    whole_image_copy, Access, BufferDesc, Descriptor, Device, DeviceInfo, ImageDesc, Instance, PipelineLayout, Sampler,
+    ShaderCompiler, ShaderSources,
 };
 use forward::{ForwardPass, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuFrame, GpuObject, GpuPointLight};
@@ -406,14 +406,7 @@ impl Renderer {
                     COPY_READ,
                 )],
             );
-            let region = vk::BufferImageCopy::default()
-                .image_subresource(vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                })
-                .image_extent(vk::Extent3D { width, height, depth: 1 });
+            let region = whole_image_copy(width, height);
             // SAFETY: as above.
             unsafe {
                 device.raw.cmd_copy_image_to_buffer(
@@ -435,7 +428,6 @@ impl Renderer {
 const COLOR_TARGET: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
 const DEPTH_TARGET: vk::ImageLayout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
 const READ_ONLY: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-type Access = (vk::PipelineStageFlags2, vk::AccessFlags2);
 const NOTHING: Access = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
 const COLOR_WRITE: Access =
     (vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE);

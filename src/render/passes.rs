@@ -8,7 +8,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, PlacedMesh, Vertex};
-use crate::vulkan::{Buffer, Device, Image};
+use crate::vulkan::{layout_transition, Access, Buffer, Device, Image};
 
 /// The vertex buffer layout: a homogeneous position and a normal.
 pub fn vertex_input() -> ([vk::VertexInputBindingDescription; 1], [vk::VertexInputAttributeDescription; 2]) {
@@ -129,18 +129,10 @@ pub fn image_barrier(
     image: &Image,
     old: vk::ImageLayout,
     new: vk::ImageLayout,
-    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
-    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    src: Access,
+    dst: Access,
 ) -> vk::ImageMemoryBarrier2<'static> {
-    vk::ImageMemoryBarrier2::default()
-        .src_stage_mask(src.0)
-        .src_access_mask(src.1)
-        .dst_stage_mask(dst.0)
-        .dst_access_mask(dst.1)
-        .old_layout(old)
-        .new_layout(new)
-        .image(image.raw)
-        .subresource_range(image.full_range())
+    layout_transition(image.raw, image.full_range(), old, new, src, dst)
 }
 
 /// Records image barriers.

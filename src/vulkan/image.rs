@@ -121,6 +121,41 @@ pub fn layer_range(aspect: vk::ImageAspectFlags, first: u32, count: u32) -> vk::
     }
 }
 
+/// A (stage, access) pair: where a barrier waits from, or what it makes ready.
+pub type Access = (vk::PipelineStageFlags2, vk::AccessFlags2);
+
+/// A layout transition of `range` of a raw image (a swapchain's, or an [`Image`]'s), from `src` to `dst`.
+pub fn layout_transition(
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+    old: vk::ImageLayout,
+    new: vk::ImageLayout,
+    src: Access,
+    dst: Access,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)
+        .old_layout(old)
+        .new_layout(new)
+        .image(image)
+        .subresource_range(range)
+}
+
+/// A copy between a tightly packed buffer and the whole first layer of a `width` x `height` colour image.
+pub fn whole_image_copy(width: u32, height: u32) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        })
+        .image_extent(vk::Extent3D { width, height, depth: 1 })
+}
+
 /// An extra view of some layers of an image (e.g. one cube of a cube array, to render into), destroyed in
 /// Drop; its owner keeps the image alive longer.
 pub struct ImageView {

@@ -17,7 +17,7 @@ mod swapchain;
 pub use buffer::{Buffer, BufferDesc};
 pub use descriptor::{Descriptor, DescriptorPool};
 pub use device::{list_devices, preferred_device, Device, DeviceInfo};
-pub use image::{layer_range, Image, ImageDesc, ImageView};
+pub use image::{layer_range, layout_transition, whole_image_copy, Access, Image, ImageDesc, ImageView};
 pub use instance::{Instance, ValidationLog, INSTALL_HINT};
 pub use pipeline::{GraphicsPipelineDesc, Pipeline, PipelineLayout};
 pub use sampler::Sampler;
