@@ -235,39 +235,33 @@ fn samples_the_device_does_not_support() {
     );
 }
 
+/// Figure 1 with its sphere replaced by the mesh `name`, written beside the scene with `contents` (or not
+/// at all), must fail naming the object's path key, the file and `why`.
+fn mesh_fails(name: &'static str, contents: Option<&str>, why: &str) {
+    let folder = temp_dir();
+    if let Some(text) = contents {
+        std::fs::write(folder.path().join(name), text).unwrap();
+    }
+    let mesh = format!("shape = \"mesh\"\npath = \"{name}\"");
+    let scene = scene_file(folder.path(), |t| {
+        t.replacen("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", &mesh, 1)
+    });
+    fails_with(&scene, &[], &["scene.toml", "object.0.path", name, why]);
+}
+
 #[test]
 fn missing_obj() {
-    let folder = temp_dir();
-    let scene = scene_file(
-        folder.path(),
-        edited(
-            "shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0",
-            "shape = \"mesh\"\npath = \"missing.obj\"",
-        ),
-    );
-    fails_with(&scene, &[], &["scene.toml", "object.0.path", "missing.obj", "No such file"]);
+    mesh_fails("missing.obj", None, "No such file");
 }
 
 #[test]
 fn malformed_obj() {
-    let folder = temp_dir();
-    std::fs::write(folder.path().join("broken.obj"), "v 0 0 0\nv 1 0 zero\nf 1 2 3\n").unwrap();
-    let scene = scene_file(
-        folder.path(),
-        edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"broken.obj\""),
-    );
-    fails_with(&scene, &[], &["scene.toml", "object.0.path", "broken.obj", "not a valid OBJ file"]);
+    mesh_fails("broken.obj", Some("v 0 0 0\nv 1 0 zero\nf 1 2 3\n"), "not a valid OBJ file");
 }
 
 #[test]
 fn obj_without_triangles() {
-    let folder = temp_dir();
-    std::fs::write(folder.path().join("empty.obj"), "# nothing here\nv 0 0 0\n").unwrap();
-    let scene = scene_file(
-        folder.path(),
-        edited("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", "shape = \"mesh\"\npath = \"empty.obj\""),
-    );
-    fails_with(&scene, &[], &["scene.toml", "object.0.path", "empty.obj", "no triangles"]);
+    mesh_fails("empty.obj", Some("# nothing here\nv 0 0 0\n"), "no triangles");
 }
 
 #[test]

@@ -48,48 +48,39 @@ fn assert_same(shot: &image::RgbImage, expected: &image::RgbImage, what: &str) {
     assert!(c.max <= 1 && c.fraction_over_3 == 0.0, "{what}: {c}");
 }
 
-#[test]
-fn the_presented_frame_is_the_offscreen_render() {
+/// Figure 1 previewed at `size` for `frames` frames with the `keys` script: the last frame presented.
+fn screenshot(size: (u32, u32), frames: u32, keys: &str) -> image::RgbImage {
     let folder = temp_dir();
     let shot = folder.path().join("shot.png");
     let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let (width, height, frames) = (size.0.to_string(), size.1.to_string(), frames.to_string());
     let output = preview(&[
         scene.to_str().unwrap(),
         "--frames",
-        "3",
+        &frames,
         "--screenshot",
         shot.to_str().unwrap(),
         "--width",
-        "320",
+        &width,
         "--height",
-        "240",
+        &height,
+        "--keys",
+        keys,
     ]);
     succeeded(&output);
-    let shot = image::open(&shot).unwrap().into_rgb8();
+    image::open(&shot).unwrap().into_rgb8()
+}
+
+#[test]
+fn the_presented_frame_is_the_offscreen_render() {
+    let shot = screenshot((320, 240), 3, "");
     assert_same(&shot, &offscreen("fig1-lambert.toml", &["image.width=320", "image.height=240"]), "figure 1");
 }
 
 #[test]
 fn simulated_keys_switch_the_brdf_and_the_image_follows() {
-    let folder = temp_dir();
-    let shot = folder.path().join("shot.png");
-    let scene = root().join("assets/scenes/fig1-lambert.toml");
     // 2: Oren-Nayar with sigma 0.3 on the selected (first) object; Up: sigma 0.4.
-    let output = preview(&[
-        scene.to_str().unwrap(),
-        "--frames",
-        "4",
-        "--screenshot",
-        shot.to_str().unwrap(),
-        "--width",
-        "320",
-        "--height",
-        "240",
-        "--keys",
-        "2,Up",
-    ]);
-    succeeded(&output);
-    let shot = image::open(&shot).unwrap().into_rgb8();
+    let shot = screenshot((320, 240), 4, "2,Up");
     let size = ["image.width=320", "image.height=240"];
     let expected =
         offscreen("fig1-lambert.toml", &[size[0], size[1], "material.grey.brdf=oren-nayar", "material.grey.sigma=0.4"]);
@@ -99,24 +90,7 @@ fn simulated_keys_switch_the_brdf_and_the_image_follows() {
 
 #[test]
 fn resizing_mid_run_renders_at_the_new_size() {
-    let folder = temp_dir();
-    let shot = folder.path().join("shot.png");
-    let scene = root().join("assets/scenes/fig1-lambert.toml");
-    let output = preview(&[
-        scene.to_str().unwrap(),
-        "--frames",
-        "6",
-        "--screenshot",
-        shot.to_str().unwrap(),
-        "--width",
-        "320",
-        "--height",
-        "240",
-        "--keys",
-        "resize:200x150",
-    ]);
-    succeeded(&output);
-    let shot = image::open(&shot).unwrap().into_rgb8();
+    let shot = screenshot((320, 240), 6, "resize:200x150");
     assert_same(&shot, &offscreen("fig1-lambert.toml", &["image.width=200", "image.height=150"]), "after resizing");
 }
 
