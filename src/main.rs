@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 
 use vk_render::figures::FIGURES;
-use vk_render::output::{write_image, OutputFormat};
+use vk_render::output::{write_image, write_png, OutputFormat};
 use vk_render::sheet::contact_sheet;
 use vk_render::vulkan::{list_devices, preferred_device, Instance};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
@@ -355,10 +355,6 @@ fn render_sheet(
     write_png(&contact_sheet(Some(title), &images, columns), sheet_path)?;
     println!("{}", sheet_path.display());
     Ok(())
-}
-
-fn write_png(image: &image::RgbImage, path: &std::path::Path) -> anyhow::Result<()> {
-    image.save(path).map_err(|e| anyhow::anyhow!("{}: cannot write the image: {e}", path.display()))
 }
 
 /// A value as part of a file name: anything but letters, digits, '.', '-' and '_' becomes '_'.

@@ -101,14 +101,30 @@ impl OutputFormat {
 /// # Errors
 /// `Error::Output` naming the path when the file cannot be encoded or written.
 pub fn write_image(hdr: &HdrImage, settings: &ImageSettings, path: &Path) -> Result<()> {
-    let format = OutputFormat::for_path(path)?;
+    match OutputFormat::for_path(path)? {
+        OutputFormat::Png => write_png(&hdr.to_rgb8(settings), path),
+        OutputFormat::Exr => {
+            write_encoded(path, |bytes| hdr.exposed(settings.exposure).write_to(bytes, image::ImageFormat::OpenExr))
+        }
+    }
+}
+
+/// Writes an 8-bit image as a PNG, through a temporary file as [`write_image`] does.
+///
+/// # Errors
+/// `Error::Output` naming the path when the file cannot be encoded or written.
+pub fn write_png(image: &image::RgbImage, path: &Path) -> Result<()> {
+    write_encoded(path, |bytes| image.write_to(bytes, image::ImageFormat::Png))
+}
+
+/// Encodes into memory, then writes a temporary file beside `path` and renames it into place.
+fn write_encoded(
+    path: &Path,
+    encode: impl FnOnce(&mut std::io::Cursor<Vec<u8>>) -> image::ImageResult<()>,
+) -> Result<()> {
     let error = |message: String| Error::Output { path: path.to_path_buf(), message };
     let mut bytes = std::io::Cursor::new(Vec::new());
-    match format {
-        OutputFormat::Png => hdr.to_rgb8(settings).write_to(&mut bytes, image::ImageFormat::Png),
-        OutputFormat::Exr => hdr.exposed(settings.exposure).write_to(&mut bytes, image::ImageFormat::OpenExr),
-    }
-    .map_err(|e| error(format!("cannot encode the image: {e}")))?;
+    encode(&mut bytes).map_err(|e| error(format!("cannot encode the image: {e}")))?;
     let temporary = temporary_path(path);
     let written = std::fs::write(&temporary, bytes.get_ref()).and_then(|()| std::fs::rename(&temporary, path));
     if let Err(e) = written {

@@ -185,8 +185,7 @@ struct Running {
     swapchain: Option<Swapchain>,
     surface: Arc<Surface>,
     renderer: Renderer,
-    /// The scene as last read, the scene as the user changed it, and the last one that rendered.
-    file_scene: Scene,
+    /// The scene as the user changed it, and the last one that rendered.
     scene: Scene,
     last_good: Scene,
     original_camera: Camera,
@@ -225,7 +224,6 @@ impl Running {
             swapchain: None,
             surface,
             renderer,
-            file_scene: scene.clone(),
             last_good: scene.clone(),
             original_camera: scene.camera,
             scene,
@@ -275,7 +273,6 @@ impl Running {
             match Scene::load(&self.scene_path, &self.overrides) {
                 Ok(scene) => {
                     log::info!("reloaded {}", self.scene_path.display());
-                    self.file_scene = scene.clone();
                     self.original_camera = scene.camera;
                     self.scene = scene;
                     self.controls.selected = self.controls.selected.min(self.scene.objects.len().saturating_sub(1));
@@ -468,10 +465,7 @@ fn save_screenshot(bytes: &[u8], width: u32, height: u32, bgra: bool, path: &Pat
         path: path.to_path_buf(),
         message: "the screenshot has the wrong size".into(),
     })?;
-    image.save(path).map_err(|e| Error::Output {
-        path: path.to_path_buf(),
-        message: format!("cannot write the screenshot: {e}"),
-    })?;
+    crate::output::write_png(&image, path)?;
     log::info!("saved {}", path.display());
     Ok(())
 }

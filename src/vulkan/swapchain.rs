@@ -12,7 +12,8 @@ use crate::error::{Error, Result};
 pub struct Surface {
     pub raw: vk::SurfaceKHR,
     pub loader: khr::surface::Instance,
-    instance: Arc<Instance>,
+    /// Kept alive: the surface must be destroyed before its instance.
+    _instance: Arc<Instance>,
 }
 
 impl Surface {
@@ -35,7 +36,7 @@ impl Surface {
         // SAFETY: the handles come from a live window, which the caller keeps alive longer than the surface.
         let raw = unsafe { ash_window::create_surface(&instance.entry, &instance.raw, display, window, None)? };
         let loader = khr::surface::Instance::new(&instance.entry, &instance.raw);
-        Ok(Self { raw, loader, instance: instance.clone() })
+        Ok(Self { raw, loader, _instance: instance.clone() })
     }
 }
 
@@ -43,7 +44,6 @@ impl Drop for Surface {
     fn drop(&mut self) {
         // SAFETY: swapchains on the surface are gone (each holds an Arc of it); the instance is alive.
         unsafe { self.loader.destroy_surface(self.raw, None) };
-        let _ = &self.instance;
     }
 }
 
