@@ -5,14 +5,15 @@
 RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1 glmark2-data
 # The preview's window: winit opens these X11 libraries at run time.
 PREVIEW_PACKAGES := libx11-6 libx11-xcb1 libxcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon0 libxkbcommon-x11-0
-BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools
+# The shaderc crate's build compiles C++; build.rs finds the glslang and SPIRV-Tools archives with pkg-config.
+BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools g++ pkg-config
 TEST_PACKAGES := vulkan-validationlayers xvfb xauth
 
 CARGO ?= cargo
-BIN := target/release/vk-render
+BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test bless clean
+.PHONY: all setup setup-test build render test test-current bench bless clean
 
 all: render
 
@@ -33,13 +34,25 @@ build: setup
 render: build
 	$(BIN) figures -o $(OUT)
 
-## test: every test (unit, shader compilation, GPU renders with validation, CLI errors)
+## test: every test (unit, shader compilation, GPU renders with validation, CLI errors); then builds the
+## benchmarks and the build without the preview, so that neither can rot
 test: setup-test
 	$(CARGO) test --release --locked
+	$(CARGO) bench --locked --no-run
+	$(CARGO) build --release --locked --no-default-features
 
-## bless: rewrite the golden images of tests/golden/ from this device's renders (on purpose: review the diff)
+## test-current: `make test` again in a Debian 13 root (Mesa 25 lavapipe, validation layer 1.4), made once
+## from Debian's packages and cached (scripts/stage-current.sh; needs root or sudo)
+test-current:
+	scripts/stage-current.sh test
+
+## bench: the renderer's benchmark (median of 9 runs each); `scripts/stage-current.sh bench` on Debian 13
+bench: setup
+	$(CARGO) bench --locked --bench render
+
+## bless: rewrite the golden images of tests/golden/ from lavapipe's renders (on purpose: review the diff)
 bless: setup-test
-	VK_RENDER_BLESS=1 $(CARGO) test --release --locked --test golden -- images_match_the_golden_images
+	$(CARGO) run --release --locked --example bless
 
 clean:
 	$(CARGO) clean

@@ -1,34 +1,101 @@
-//! Embeds the GLSL sources of shaders/ in the binary, and links shaderc against Debian's static glslang and SPIRV-Tools archives.
+//! Embeds the GLSL sources of shaders/ in the binary, and links shaderc against the system's static glslang and
+//! SPIRV-Tools archives.
 //!
 //! Debian's `libshaderc.so` does not declare its glslang and spvtools dependencies, so the shaderc crate's
 //! default dynamic link fails with undefined symbols. With the crate's `prefer-static-linking` feature it
-//! links `libshaderc_combined.a`-style; the eight archives below supply the rest (all are needed).
+//! links `libshaderc_combined.a`-style, and the archives below supply the rest. Which of them exist depends
+//! on the glslang release (glslang 15, Debian 13, has no OGLCompiler; later ones fold more into glslang), and
+//! where they are on the architecture: they are looked for, not assumed.
 
-const STATIC_LIBS: [&str; 8] = [
-    "glslang",
-    "MachineIndependent",
-    "GenericCodeGen",
-    "OSDependent",
-    "OGLCompiler",
-    "SPIRV",
-    "SPIRV-Tools-opt",
-    "SPIRV-Tools",
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The archives shaderc needs, in link order (each before those it uses), and whether every glslang has it.
+const ARCHIVES: [(&str, bool); 8] = [
+    ("glslang", true),
+    ("MachineIndependent", false),
+    ("GenericCodeGen", false),
+    ("OSDependent", false),
+    ("OGLCompiler", false),
+    ("SPIRV", false),
+    ("SPIRV-Tools-opt", true),
+    ("SPIRV-Tools", true),
 ];
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     embed_shaders();
-    println!("cargo:rustc-link-search=native=/usr/lib/x86_64-linux-gnu");
-    for lib in STATIC_LIBS {
-        println!("cargo:rustc-link-lib=static:-bundle={lib}");
+    link_glslang_and_spirv_tools();
+}
+
+/// Finds each archive of [`ARCHIVES`] in the library folders that pkg-config and the C compiler name, and
+/// links those found; stops the build with the folders searched when a required one is missing.
+fn link_glslang_and_spirv_tools() {
+    let folders = library_folders();
+    let mut linked_from = Vec::<PathBuf>::new();
+    let mut missing = Vec::new();
+    for (name, required) in ARCHIVES {
+        let file = format!("lib{name}.a");
+        match folders.iter().find(|folder| folder.join(&file).is_file()) {
+            Some(folder) => {
+                if !linked_from.contains(folder) {
+                    println!("cargo:rustc-link-search=native={}", folder.display());
+                    linked_from.push(folder.clone());
+                }
+                println!("cargo:rustc-link-lib=static:-bundle={name}");
+            }
+            None if required => missing.push(file),
+            None => {}
+        }
     }
+    if !missing.is_empty() {
+        let searched: Vec<_> = folders.iter().map(|f| f.display().to_string()).collect();
+        panic!(
+            "shaderc needs the static archives {} (Debian/Ubuntu packages glslang-dev and spirv-tools: run \
+             `make setup`); searched {}",
+            missing.join(", "),
+            searched.join(", ")
+        );
+    }
+}
+
+/// Where static libraries may be: the folders pkg-config gives for glslang and SPIRV-Tools, then the C
+/// compiler's library search path (which holds the multiarch folder of whatever architecture this is).
+fn library_folders() -> Vec<PathBuf> {
+    println!("cargo:rerun-if-env-changed=PKG_CONFIG_PATH");
+    println!("cargo:rerun-if-env-changed=CC");
+    let mut folders = Vec::new();
+    for package in ["glslang", "SPIRV-Tools"] {
+        if let Some(libdir) = output_of(Command::new("pkg-config").args(["--variable=libdir", package])) {
+            folders.push(PathBuf::from(libdir.trim()));
+        }
+    }
+    let compiler = std::env::var("CC").unwrap_or_else(|_| "cc".into());
+    if let Some(dirs) = output_of(Command::new(compiler).arg("-print-search-dirs")) {
+        let libraries = dirs.lines().find_map(|line| line.strip_prefix("libraries: =")).unwrap_or_default();
+        folders.extend(libraries.split(':').filter(|d| !d.is_empty()).map(PathBuf::from));
+    }
+    let mut unique: Vec<PathBuf> = Vec::new();
+    for folder in folders {
+        let folder = folder.canonicalize().unwrap_or(folder);
+        if folder.is_dir() && !unique.contains(&folder) {
+            unique.push(folder);
+        }
+    }
+    unique
+}
+
+/// The standard output of a command that ran and succeeded.
+fn output_of(command: &mut Command) -> Option<String> {
+    let output = command.output().ok().filter(|o| o.status.success())?;
+    String::from_utf8(output.stdout).ok()
 }
 
 /// Writes `$OUT_DIR/shaders.rs`: a table of every file under shaders/ (path relative to it, text), so the
 /// binary compiles its shaders at run time from wherever it is installed, with no files beside it.
 fn embed_shaders() {
     println!("cargo:rerun-if-changed=shaders");
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut files = Vec::new();
     collect(&root, &mut files);
     files.sort();
@@ -39,11 +106,11 @@ fn embed_shaders() {
         table.push_str(&format!("    ({relative:?}, include_str!({:?})),\n", file.display().to_string()));
     }
     table.push_str("]\n");
-    let out = std::path::Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("shaders.rs");
+    let out = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("shaders.rs");
     std::fs::write(out, table).expect("OUT_DIR is writable");
 }
 
-fn collect(dir: &std::path::Path, files: &mut Vec<std::path::PathBuf>) {
+fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).expect("shaders/ is readable").flatten() {
         let path = entry.path();
         if path.is_dir() {
