@@ -60,8 +60,10 @@ float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
     float reach = pcf ? 1.75 : 0.75;
     float unoccluded = distance - distance * texel * (reach * tan_theta + 0.5);
     float layer = float(light.shadow.x);
+    // Explicit level 0: this runs in non-uniform control flow (per light, past a per-fragment test), where
+    // texture()'s implicit level of detail is undefined; the cubes have one level anyway.
     if (!pcf) {
-        return texture(shadow_maps, vec4(from_light, layer)).r < unoccluded ? 0.0 : 1.0;
+        return textureLod(shadow_maps, vec4(from_light, layer), 0.0).r < unoccluded ? 0.0 : 1.0;
     }
     // PCF: 3 x 3 lookups one texel apart across the lookup direction, averaged.
     vec3 u = normalize(abs(from_light.x) < 0.9 * distance ? cross(from_light, vec3(1.0, 0.0, 0.0))
@@ -72,7 +74,7 @@ float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
     for (int i = -1; i <= 1; ++i) {
         for (int j = -1; j <= 1; ++j) {
             vec3 direction = from_light + (float(i) * u + float(j) * v) * step_length;
-            lit += texture(shadow_maps, vec4(direction, layer)).r < unoccluded ? 0.0 : 1.0;
+            lit += textureLod(shadow_maps, vec4(direction, layer), 0.0).r < unoccluded ? 0.0 : 1.0;
         }
     }
     return lit / 9.0;

@@ -110,9 +110,9 @@ struct PreviewArgs {
     #[arg(long, value_name = "OUT.png")]
     screenshot: Option<PathBuf>,
 
-    /// Test hook: actions applied one per frame, e.g. "Tab,2,Up,resize:320x200" (keys: Tab, 1-5, Up, Down,
-    /// Left, Right, L, S, R, Esc).
-    #[arg(long, value_name = "ACTIONS", hide = true)]
+    /// Test hook: keys pressed one per frame, handled as the keyboard's, e.g. "Tab,2,Up,resize:320x200"
+    /// (Tab, Up, Down, Left, Right, Esc, or one character as typed).
+    #[arg(long, value_name = "KEYS", hide = true)]
     keys: Option<String>,
 
     /// A shaders/ folder to watch and reload (default: the source tree's, when it is there).
@@ -214,11 +214,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
 fn devices(validate: bool) -> anyhow::Result<()> {
     let instance = Instance::new(validate, &[])?;
     let devices = list_devices(&instance)?;
-    let Some((_, preferred)) = preferred_device(&devices) else {
+    if devices.is_empty() {
         anyhow::bail!("no Vulkan device was found. {}", vk_render::vulkan::INSTALL_HINT);
-    };
+    }
+    let preferred = preferred_device(&instance, &devices, None).ok().map(|((_, info), _)| info.index);
     for (_, info) in &devices {
-        let marker = if info.index == preferred.index { "*" } else { " " };
+        let marker = if Some(info.index) == preferred { "*" } else { " " };
         println!(
             "{marker} {}: {} ({}, Vulkan {}) {}",
             info.index,
@@ -246,9 +247,9 @@ fn render(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
 
 #[cfg(feature = "preview")]
 fn preview(args: PreviewArgs, renderer: RendererOptions) -> anyhow::Result<()> {
-    use vk_render::preview::{run, Action, PreviewOptions};
+    use vk_render::preview::{parse_script, run, PreviewOptions};
     let script = match &args.keys {
-        Some(keys) => Action::parse_script(keys).map_err(|e| anyhow::anyhow!("--keys: {e}"))?,
+        Some(keys) => parse_script(keys).map_err(|e| anyhow::anyhow!("--keys: {e}"))?,
         None => Vec::new(),
     };
     if let Some(path) = &args.screenshot {

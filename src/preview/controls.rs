@@ -1,6 +1,7 @@
 //! What the preview's keys and mouse do to the scene: pure state, no window, so it is unit-tested.
 
 use glam::Vec3;
+use winit::keyboard::{Key, NamedKey};
 
 use crate::brdf::{Brdf, DiffuseModel};
 use crate::scene::{Camera, Scene, Shape};
@@ -24,45 +25,69 @@ pub enum Action {
     ResetCamera,
     /// Esc: quit.
     Quit,
-    /// Resize the window (test hook only).
+}
+
+/// The action of a key, as the window's keyboard events and the test scripts both deliver it.
+pub fn key_action(key: &Key) -> Option<Action> {
+    Some(match key {
+        Key::Named(NamedKey::Tab) => Action::NextObject,
+        Key::Named(NamedKey::ArrowUp) => Action::MainParameter(1),
+        Key::Named(NamedKey::ArrowDown) => Action::MainParameter(-1),
+        Key::Named(NamedKey::ArrowLeft) => Action::Metalness(-1),
+        Key::Named(NamedKey::ArrowRight) => Action::Metalness(1),
+        Key::Named(NamedKey::Escape) => Action::Quit,
+        Key::Character(c) => match c.as_str() {
+            "1" | "2" | "3" | "4" | "5" => Action::SetBrdf(c.parse::<usize>().ok()? - 1),
+            "l" | "L" => Action::ToggleShadows,
+            "s" | "S" => Action::Screenshot,
+            "r" | "R" => Action::ResetCamera,
+            _ => return None,
+        },
+        _ => return None,
+    })
+}
+
+/// One step of a test script, played one per frame: a key pressed, or the window resized.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ScriptStep {
+    Key(Key),
     Resize(u32, u32),
 }
 
-impl Action {
-    /// Parses a test script: actions separated by commas, by key name ("Tab", "1".."5", "Up", "Down",
-    /// "Left", "Right", "L", "S", "R", "Esc") or "resize:WxH".
-    ///
-    /// # Errors
-    /// A message naming the entry that is not an action.
-    pub fn parse_script(script: &str) -> Result<Vec<Action>, String> {
-        script
-            .split(',')
-            .map(str::trim)
-            .filter(|s| !s.is_empty())
-            .map(|key| {
-                Ok(match key {
-                    "Tab" => Action::NextObject,
-                    "1" | "2" | "3" | "4" | "5" => Action::SetBrdf(key.parse::<usize>().unwrap_or(1) - 1),
-                    "Up" => Action::MainParameter(1),
-                    "Down" => Action::MainParameter(-1),
-                    "Left" => Action::Metalness(-1),
-                    "Right" => Action::Metalness(1),
-                    "L" => Action::ToggleShadows,
-                    "S" => Action::Screenshot,
-                    "R" => Action::ResetCamera,
-                    "Esc" => Action::Quit,
-                    _ => {
-                        let size = key.strip_prefix("resize:").and_then(|s| s.split_once('x'));
-                        let parsed = size.and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)));
-                        match parsed {
-                            Some((w, h)) if w > 0 && h > 0 => Action::Resize(w, h),
-                            _ => return Err(format!("`{key}` is not a preview action")),
-                        }
-                    }
-                })
-            })
-            .collect()
-    }
+/// Parses a test script: steps separated by commas, each a key ("Tab", "Up", "Down", "Left", "Right",
+/// "Esc", or one character as typed: "2", "l") or "resize:WxH". Keys go through [`key_action`] as a real
+/// key press does, so a key with no action does nothing.
+///
+/// # Errors
+/// A message naming the entry that is neither.
+pub fn parse_script(script: &str) -> Result<Vec<ScriptStep>, String> {
+    script
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|entry| {
+            let named = match entry {
+                "Tab" => Some(NamedKey::Tab),
+                "Up" => Some(NamedKey::ArrowUp),
+                "Down" => Some(NamedKey::ArrowDown),
+                "Left" => Some(NamedKey::ArrowLeft),
+                "Right" => Some(NamedKey::ArrowRight),
+                "Esc" => Some(NamedKey::Escape),
+                _ => None,
+            };
+            if let Some(named) = named {
+                return Ok(ScriptStep::Key(Key::Named(named)));
+            }
+            if entry.chars().count() == 1 {
+                return Ok(ScriptStep::Key(Key::Character(entry.into())));
+            }
+            let size = entry.strip_prefix("resize:").and_then(|s| s.split_once('x'));
+            match size.and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?))) {
+                Some((w, h)) if w > 0 && h > 0 => Ok(ScriptStep::Resize(w, h)),
+                _ => Err(format!("`{entry}` is neither a key nor resize:WIDTHxHEIGHT")),
+            }
+        })
+        .collect()
 }
 
 /// A camera orbiting the scene's look-at point.
@@ -249,6 +274,16 @@ mod tests {
 
     use super::*;
 
+    /// The actions of a script of keys, through the keyboard's mapping.
+    fn key_actions(script: &str) -> Vec<Action> {
+        let keys = parse_script(script).unwrap().into_iter();
+        keys.map(|step| match step {
+            ScriptStep::Key(key) => key_action(&key).unwrap_or_else(|| panic!("{key:?} has no action")),
+            ScriptStep::Resize(..) => panic!("a resize in {script}"),
+        })
+        .collect()
+    }
+
     fn figure_1() -> Scene {
         let text = include_str!("../../assets/scenes/fig1-lambert.toml");
         Scene::parse(text, Path::new("fig1.toml"), &[]).unwrap()
@@ -259,12 +294,12 @@ mod tests {
         let mut scene = figure_1();
         let camera = scene.camera;
         let mut controls = Controls::new(&scene);
-        for action in Action::parse_script("2, Up, Up").unwrap() {
+        for action in key_actions("2, Up, Up") {
             controls.apply(action, &mut scene, &camera);
         }
         assert!(matches!(scene.objects[0].brdf, Brdf::OrenNayar { sigma, .. } if (sigma - 0.5).abs() < 1e-6));
         assert_eq!(scene.objects[1].brdf, figure_1().objects[1].brdf, "the plane is not selected");
-        for action in Action::parse_script("Tab,5,Right,Right,Down").unwrap() {
+        for action in key_actions("Tab,5,Right,Right,Down") {
             controls.apply(action, &mut scene, &camera);
         }
         assert_eq!(controls.selected, 1);
@@ -307,10 +342,21 @@ mod tests {
     #[test]
     fn scripts_parse_or_name_the_bad_entry() {
         assert_eq!(
-            Action::parse_script("Tab, 3 ,resize:200x150,Esc").unwrap(),
-            vec![Action::NextObject, Action::SetBrdf(2), Action::Resize(200, 150), Action::Quit]
+            parse_script("Tab, 3 ,resize:200x150,Esc,6").unwrap(),
+            vec![
+                ScriptStep::Key(Key::Named(NamedKey::Tab)),
+                ScriptStep::Key(Key::Character("3".into())),
+                ScriptStep::Resize(200, 150),
+                ScriptStep::Key(Key::Named(NamedKey::Escape)),
+                ScriptStep::Key(Key::Character("6".into())),
+            ]
         );
-        assert!(Action::parse_script("Tab,6").unwrap_err().contains("`6`"));
-        assert!(Action::parse_script("resize:0x10").is_err());
+        assert_eq!(key_action(&Key::Character("6".into())), None, "6 is a key with no action");
+        assert_eq!(key_actions("Tab, 3, l, S, r, Esc, Left"), {
+            use Action::*;
+            vec![NextObject, SetBrdf(2), ToggleShadows, Screenshot, ResetCamera, Quit, Metalness(-1)]
+        });
+        assert!(parse_script("Tab,Foo").unwrap_err().contains("`Foo`"));
+        assert!(parse_script("resize:0x10").is_err());
     }
 }

@@ -19,15 +19,15 @@ use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::{Key, NamedKey};
+use winit::keyboard::Key;
 use winit::window::{Window, WindowId};
 
-pub use controls::{Action, Controls, Orbit};
+pub use controls::{key_action, parse_script, Action, Controls, Orbit, ScriptStep};
 
 use crate::error::{Error, Result};
 use crate::scene::{Camera, Override, Scene};
 use crate::vulkan::{
-    layer_range, layout_transition, whole_image_copy, Access, BufferDesc, ShaderSources, Surface, Swapchain,
+    layer_range, layout_transition, whole_image_copy, Access, BufferDesc, Instance, ShaderSources, Surface, Swapchain,
 };
 use crate::{Renderer, RendererOptions};
 
@@ -42,8 +42,9 @@ pub struct PreviewOptions {
     pub duration: Option<Duration>,
     /// Save the last presented frame here on exit.
     pub screenshot: Option<PathBuf>,
-    /// Actions applied one per frame from the first (a test hook standing in for the keyboard).
-    pub script: Vec<Action>,
+    /// Keys pressed (and resizes) one per frame from the first: a test hook standing in for the keyboard,
+    /// handled as the keyboard's events are.
+    pub script: Vec<ScriptStep>,
     /// A shaders/ folder watched and reloaded on change (the source tree's, when it is there).
     pub shaders: Option<PathBuf>,
 }
@@ -105,10 +106,7 @@ impl ApplicationHandler for App {
                 Ok(())
             }
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed && !event.repeat => {
-                match key_action(&event.logical_key) {
-                    Some(action) => running.act(action, event_loop),
-                    None => Ok(()),
-                }
+                running.key_pressed(&event.logical_key, event_loop)
             }
             WindowEvent::MouseInput { state, button: MouseButton::Left, .. } => {
                 running.dragging = state == ElementState::Pressed;
@@ -160,25 +158,6 @@ impl ApplicationHandler for App {
 /// How often the scene file and the shaders are looked at.
 const RELOAD_INTERVAL: Duration = Duration::from_millis(500);
 
-fn key_action(key: &Key) -> Option<Action> {
-    Some(match key {
-        Key::Named(NamedKey::Tab) => Action::NextObject,
-        Key::Named(NamedKey::ArrowUp) => Action::MainParameter(1),
-        Key::Named(NamedKey::ArrowDown) => Action::MainParameter(-1),
-        Key::Named(NamedKey::ArrowLeft) => Action::Metalness(-1),
-        Key::Named(NamedKey::ArrowRight) => Action::Metalness(1),
-        Key::Named(NamedKey::Escape) => Action::Quit,
-        Key::Character(c) => match c.as_str() {
-            "1" | "2" | "3" | "4" | "5" => Action::SetBrdf(c.parse::<usize>().ok()? - 1),
-            "l" | "L" => Action::ToggleShadows,
-            "s" | "S" => Action::Screenshot,
-            "r" | "R" => Action::ResetCamera,
-            _ => return None,
-        },
-        _ => return None,
-    })
-}
-
 /// Everything the open window needs. Field order is drop order: the swapchain before its surface, both
 /// before the renderer's device, and the window last.
 struct Running {
@@ -192,7 +171,7 @@ struct Running {
     controls: Controls,
     dragging: bool,
     cursor: Option<(f64, f64)>,
-    script: VecDeque<Action>,
+    script: VecDeque<ScriptStep>,
     options_frames: Option<u64>,
     deadline: Option<Instant>,
     presented: u64,
@@ -217,8 +196,10 @@ impl Running {
         let mut renderer_options = std::mem::take(&mut options.renderer);
         renderer_options.instance_extensions.extend(Surface::required_extensions(display)?);
         renderer_options.device_extensions.push(ash::khr::swapchain::NAME);
-        let renderer = Renderer::new(renderer_options)?;
-        let surface = Arc::new(Surface::new(&renderer.device().instance, display, window_handle)?);
+        // The surface first: the device must be one whose queue can present to this window.
+        let instance = Arc::new(Instance::new(renderer_options.validate, &renderer_options.instance_extensions)?);
+        let surface = Arc::new(Surface::new(&instance, display, window_handle)?);
+        let renderer = Renderer::on_instance(instance, renderer_options, Some((&surface.loader, surface.raw)))?;
         let controls = Controls::new(&scene);
         Ok(Self {
             swapchain: None,
@@ -249,6 +230,14 @@ impl Running {
         self.window.request_redraw();
     }
 
+    /// A key pressed, from the keyboard or a test script.
+    fn key_pressed(&mut self, key: &Key, event_loop: &ActiveEventLoop) -> Result<()> {
+        match key_action(key) {
+            Some(action) => self.act(action, event_loop),
+            None => Ok(()),
+        }
+    }
+
     fn act(&mut self, action: Action, event_loop: &ActiveEventLoop) -> Result<()> {
         match action {
             Action::Quit => event_loop.exit(),
@@ -256,9 +245,6 @@ impl Running {
                 self.screenshots_saved += 1;
                 self.screenshot_next =
                     Some(PathBuf::from(format!("vk-render-screenshot-{}.png", self.screenshots_saved)));
-            }
-            Action::Resize(width, height) => {
-                let _ = self.window.request_inner_size(PhysicalSize::new(width, height));
             }
             other => self.controls.apply(other, &mut self.scene, &self.original_camera),
         }
@@ -295,8 +281,12 @@ impl Running {
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
-        if let Some(action) = self.script.pop_front() {
-            self.act(action, event_loop)?;
+        match self.script.pop_front() {
+            Some(ScriptStep::Key(key)) => self.key_pressed(&key, event_loop)?,
+            Some(ScriptStep::Resize(width, height)) => {
+                let _ = self.window.request_inner_size(PhysicalSize::new(width, height));
+            }
+            None => {}
         }
         let size = self.window.inner_size();
         if size.width == 0 || size.height == 0 {
@@ -359,6 +349,12 @@ impl Running {
         let device = self.renderer.device().clone();
         let staging = device.create_buffer_with_data(&texels, vk::BufferUsageFlags::TRANSFER_SRC, "frame upload")?;
         let readback = match screenshot {
+            Some(path) if !swapchain.readable => {
+                return Err(Error::Output {
+                    path: path.to_path_buf(),
+                    message: "this window's swapchain images cannot be read back for a screenshot".into(),
+                })
+            }
             Some(_) => Some(device.create_buffer(
                 BufferDesc {
                     size: texels.len() as u64,

@@ -65,7 +65,31 @@ impl Renderer {
     /// `Error::NoVulkan` with installation advice, `Error::Device`, `Error::Shader` or `Error::Vulkan`.
     pub fn new(options: RendererOptions) -> Result<Self> {
         let instance = Arc::new(Instance::new(options.validate, &options.instance_extensions)?);
-        let device = Device::new(instance, options.device.as_deref(), &options.device_extensions)?;
+        Self::on_instance(instance, options, None)
+    }
+
+    /// As [`Renderer::new`], on an instance already made (the preview's, which made its window's surface
+    /// with it); with `present_to`, the device chosen is one whose queue can also present to that surface.
+    ///
+    /// # Errors
+    /// As [`Renderer::new`].
+    pub fn on_instance(
+        instance: Arc<Instance>,
+        options: RendererOptions,
+        present_to: Option<(&ash::khr::surface::Instance, vk::SurfaceKHR)>,
+    ) -> Result<Self> {
+        let device = Device::new(instance, options.device.as_deref(), &options.device_extensions, present_to)?;
+        device.require_format(
+            COLOR_FORMAT,
+            vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::TRANSFER_SRC,
+            "the forward pass's colour target",
+        )?;
+        device.require_format(DEPTH_FORMAT, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT, "depth")?;
+        device.require_format(
+            DISTANCE_FORMAT,
+            vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::SAMPLED_IMAGE,
+            "the shadow cubes' distances",
+        )?;
         let compiler = ShaderCompiler::new(options.shaders)?;
         let layout = scene_layout(&device)?;
         let shadow = ShadowPass::new(&device, &compiler, &layout)?;

@@ -4,7 +4,7 @@ use std::ffi::CStr;
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use ash::vk;
+use ash::{khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::AllocationSizes;
 
@@ -20,6 +20,7 @@ pub struct DeviceInfo {
     /// Vulkan version the driver offers.
     pub api_version: u32,
     pub driver: String,
+    pub driver_id: vk::DriverId,
 }
 
 impl DeviceInfo {
@@ -32,6 +33,11 @@ impl DeviceInfo {
             vk::PhysicalDeviceType::CPU => "CPU",
             _ => "other",
         }
+    }
+
+    /// Whether this is Mesa's lavapipe (llvmpipe), whichever its version.
+    pub fn is_lavapipe(&self) -> bool {
+        self.driver_id == vk::DriverId::MESA_LLVMPIPE
     }
 
     /// Preference when no device is named: GPUs first, then lavapipe (CPU).
@@ -47,9 +53,13 @@ impl DeviceInfo {
 
     /// "1.3.230".
     pub fn api_version_string(&self) -> String {
-        let v = self.api_version;
-        format!("{}.{}.{}", vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v))
+        version_string(self.api_version)
     }
+}
+
+/// A Vulkan version number as "1.3.230".
+pub fn version_string(v: u32) -> String {
+    format!("{}.{}.{}", vk::api_version_major(v), vk::api_version_minor(v), vk::api_version_patch(v))
 }
 
 /// Lists the physical devices in the loader's order.
@@ -69,9 +79,10 @@ pub fn list_devices(instance: &Instance) -> Result<Vec<(vk::PhysicalDevice, Devi
             unsafe { instance.raw.get_physical_device_properties2(raw, &mut properties2) };
             let p = properties2.properties;
             let name = p.device_name_as_c_str().map_or_else(|_| "?".into(), |n| n.to_string_lossy().into_owned());
+            let driver_id = driver.driver_id;
             let driver =
                 driver.driver_info_as_c_str().map_or_else(|_| String::new(), |n| n.to_string_lossy().into_owned());
-            (raw, DeviceInfo { index, name, kind: p.device_type, api_version: p.api_version, driver })
+            (raw, DeviceInfo { index, name, kind: p.device_type, api_version: p.api_version, driver, driver_id })
         })
         .collect())
 }
@@ -93,41 +104,41 @@ pub struct Device {
 
 impl Device {
     /// Opens the device named by `selector` (an index from `vk-render devices`, or part of a name,
-    /// case-insensitive), or else the best one: a discrete or integrated GPU first, then lavapipe; with the
-    /// device `extensions` asked for (the swapchain's, for the preview).
+    /// case-insensitive), or else the best one that can do the work: a discrete or integrated GPU first, then
+    /// lavapipe; with the device `extensions` asked for (the swapchain's, for the preview). With `present_to`
+    /// (a window's surface), only a device with a queue family that can also present to it will do.
     ///
     /// # Errors
     /// `Error::NoVulkan` when there is no device at all, `Error::Device` when the selector matches none or
-    /// the device lacks Vulkan 1.3 or a graphics queue.
-    pub fn new(instance: Arc<Instance>, selector: Option<&str>, extensions: &[&'static CStr]) -> Result<Arc<Device>> {
+    /// no device offers what vk-render needs (each one's reason named).
+    pub fn new(
+        instance: Arc<Instance>,
+        selector: Option<&str>,
+        extensions: &[&'static CStr],
+        present_to: Option<(&khr::surface::Instance, vk::SurfaceKHR)>,
+    ) -> Result<Arc<Device>> {
         let devices = list_devices(&instance)?;
-        let (physical, info) = match selector {
-            Some(selector) => select(&devices, selector)?,
-            None => preferred_device(&devices).cloned().ok_or_else(|| {
-                Error::NoVulkan(format!("no Vulkan device was found. {}", super::instance::INSTALL_HINT))
-            })?,
+        let (physical, info, queue_family) = match selector {
+            Some(selector) => {
+                let (physical, info) = select(&devices, selector)?;
+                let family = usable_queue_family(&instance, physical, &info, present_to)
+                    .map_err(|why| Error::Device(format!("device {} ({}) {why}", info.index, info.name)))?;
+                (physical, info, family)
+            }
+            None if devices.is_empty() => {
+                return Err(Error::NoVulkan(format!("no Vulkan device was found. {}", super::instance::INSTALL_HINT)))
+            }
+            None => {
+                let ((physical, info), family) = preferred_device(&instance, &devices, present_to)
+                    .map_err(|reasons| Error::Device(format!("no Vulkan device will do: {}", reasons.join("; "))))?;
+                (*physical, info.clone(), family)
+            }
         };
-        if info.api_version < vk::API_VERSION_1_3 {
-            return Err(Error::Device(format!(
-                "device {} ({}) offers Vulkan {}, and vk-render needs 1.3",
-                info.index,
-                info.name,
-                info.api_version_string()
-            )));
-        }
-        // SAFETY: physical comes from this instance.
-        let families = unsafe { instance.raw.get_physical_device_queue_family_properties(physical) };
-        let queue_family = families
-            .iter()
-            .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
-            .ok_or_else(|| Error::Device(format!("device {} ({}) has no graphics queue", info.index, info.name)))?
-            as u32;
         let priorities = [1.0];
         let queue_info =
             [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
         let mut features13 =
             vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
-        // Shadow cubes are a cube array, one cube per light.
         let features = vk::PhysicalDeviceFeatures::default().image_cube_array(true);
         let extension_names: Vec<*const std::ffi::c_char> = extensions.iter().map(|e| e.as_ptr()).collect();
         let create_info = vk::DeviceCreateInfo::default()
@@ -258,6 +269,23 @@ impl Device {
         }
     }
 
+    /// Checks that `format` has the `needed` features with optimal tiling, for `what` (named in the error).
+    ///
+    /// # Errors
+    /// `Error::Device` naming the device, the format and its use.
+    pub fn require_format(&self, format: vk::Format, needed: vk::FormatFeatureFlags, what: &str) -> Result<()> {
+        // SAFETY: a plain query on a live physical device.
+        let properties = unsafe { self.instance.raw.get_physical_device_format_properties(self.physical, format) };
+        if properties.optimal_tiling_features.contains(needed) {
+            Ok(())
+        } else {
+            Err(Error::Device(format!(
+                "device {} ({}) cannot use {format:?} for {what} (it needs {needed:?})",
+                self.info.index, self.info.name
+            )))
+        }
+    }
+
     /// Gives a handle a name that validation messages and debuggers show.
     pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
         if !self.instance.validating() {
@@ -271,10 +299,72 @@ impl Device {
     }
 }
 
-/// The device used when none is named: a discrete GPU, else an integrated one, else a virtual one, else
-/// lavapipe (CPU); the first in the loader's order among equals.
-pub fn preferred_device(devices: &[(vk::PhysicalDevice, DeviceInfo)]) -> Option<&(vk::PhysicalDevice, DeviceInfo)> {
-    devices.iter().min_by_key(|(_, info)| info.rank())
+/// The queue family that vk-render submits all its work to on this device: graphics and compute (which
+/// imply transfer), and presentation to `present_to` when given; or why the device will not do (below Vulkan
+/// 1.3, or without a feature the passes use: dynamic rendering, synchronization2, cube arrays for the
+/// shadow cubes).
+fn usable_queue_family(
+    instance: &Instance,
+    physical: vk::PhysicalDevice,
+    info: &DeviceInfo,
+    present_to: Option<(&khr::surface::Instance, vk::SurfaceKHR)>,
+) -> std::result::Result<u32, String> {
+    if info.api_version < vk::API_VERSION_1_3 {
+        return Err(format!("offers Vulkan {}, and vk-render needs 1.3", info.api_version_string()));
+    }
+    let mut features13 = vk::PhysicalDeviceVulkan13Features::default();
+    let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut features13);
+    // SAFETY: physical comes from this instance.
+    unsafe { instance.raw.get_physical_device_features2(physical, &mut features) };
+    let cube_array = features.features.image_cube_array;
+    let missing: Vec<&str> = [
+        (features13.dynamic_rendering, "dynamicRendering"),
+        (features13.synchronization2, "synchronization2"),
+        (cube_array, "imageCubeArray"),
+    ]
+    .into_iter()
+    .filter(|(supported, _)| *supported == vk::FALSE)
+    .map(|(_, name)| name)
+    .collect();
+    if !missing.is_empty() {
+        return Err(format!("lacks the feature(s) {}", missing.join(", ")));
+    }
+    // SAFETY: physical comes from this instance.
+    let families = unsafe { instance.raw.get_physical_device_queue_family_properties(physical) };
+    let work = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
+    let can_present = |family: u32| match present_to {
+        // SAFETY: the surface was made from this instance and is alive; a failed query counts as no.
+        Some((loader, surface)) => {
+            unsafe { loader.get_physical_device_surface_support(physical, family, surface) }.unwrap_or(false)
+        }
+        None => true,
+    };
+    let family =
+        (0..families.len() as u32).find(|&f| families[f as usize].queue_flags.contains(work) && can_present(f));
+    family.ok_or_else(|| match present_to {
+        Some(_) => "has no queue that can both render and present to this window".to_string(),
+        None => "has no queue for graphics and compute".to_string(),
+    })
+}
+
+/// The device used when none is named, and its queue family: the first that can do the work (see
+/// [`Device::new`]) of the discrete GPUs, then the integrated, the virtual, and lavapipe (CPU), in the loader's
+/// order among equals; or why each will not do.
+pub fn preferred_device<'a>(
+    instance: &Instance,
+    devices: &'a [(vk::PhysicalDevice, DeviceInfo)],
+    present_to: Option<(&khr::surface::Instance, vk::SurfaceKHR)>,
+) -> std::result::Result<(&'a (vk::PhysicalDevice, DeviceInfo), u32), Vec<String>> {
+    let mut ranked: Vec<_> = devices.iter().collect();
+    ranked.sort_by_key(|(_, info)| info.rank());
+    let mut reasons = Vec::new();
+    for device in ranked {
+        match usable_queue_family(instance, device.0, &device.1, present_to) {
+            Ok(family) => return Ok((device, family)),
+            Err(why) => reasons.push(format!("device {} ({}) {why}", device.1.index, device.1.name)),
+        }
+    }
+    Err(reasons)
 }
 
 /// Finds a device by index or by part of its name.
@@ -300,26 +390,5 @@ impl Drop for Device {
             ManuallyDrop::drop(&mut self.allocator);
             self.raw.destroy_device(None);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_validation_layer_reports_a_misuse() {
-        // Proves that the messenger is wired: tests that see no message are clean, not deaf.
-        let device = Device::new(Arc::new(Instance::new(true, &[]).unwrap()), None, &[]).unwrap();
-        assert!(device.instance.take_validation_messages().is_empty());
-        let info = vk::BufferCreateInfo::default().size(0).usage(vk::BufferUsageFlags::VERTEX_BUFFER);
-        // SAFETY: deliberately invalid (size 0) but harmless on lavapipe; the buffer is destroyed at once.
-        unsafe {
-            if let Ok(buffer) = device.raw.create_buffer(&info, None) {
-                device.raw.destroy_buffer(buffer, None);
-            }
-        }
-        let messages = device.instance.take_validation_messages();
-        assert!(messages.iter().any(|m| m.contains("VUID-VkBufferCreateInfo-size-00912")), "{messages:?}");
     }
 }

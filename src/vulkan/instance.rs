@@ -21,6 +21,11 @@ pub struct Instance {
     debug: Option<DebugMessenger>,
 }
 
+/// The first Khronos validation layer whose synchronization validation sees hazards inside dynamic rendering
+/// (1.3.268, KhronosGroup/Vulkan-ValidationLayers#6860): older layers (Debian 12 has 1.3.239) are blind
+/// between vkCmdBeginRendering and the barriers after vkCmdEndRendering.
+pub const SYNC_VALIDATION_SEES_DYNAMIC_RENDERING: u32 = vk::make_api_version(0, 1, 3, 268);
+
 /// The validation layer's messages, collected so that tests and `--validate` can fail on any of them.
 #[derive(Default)]
 pub struct ValidationLog {
@@ -41,6 +46,8 @@ impl ValidationLog {
 struct DebugMessenger {
     loader: ext::debug_utils::Instance,
     raw: vk::DebugUtilsMessengerEXT,
+    /// The validation layer's version (its spec version: 1.3.239 on Debian 12).
+    layer_version: u32,
     /// Boxed so that its address, given to the layer as user data, stays fixed; freed after `raw`.
     log: Box<ValidationLog>,
 }
@@ -56,17 +63,19 @@ impl Instance {
         // SAFETY: loading libvulkan.so.1 runs its initialisers; the Vulkan loader is made for that.
         let entry = unsafe { ash::Entry::load() }
             .map_err(|e| Error::NoVulkan(format!("no Vulkan loader could be opened ({e}). {INSTALL_HINT}")))?;
+        let mut layer_version = 0;
         if validate {
             // SAFETY: a plain query with no handles.
             let layers = unsafe { entry.enumerate_instance_layer_properties()? };
-            let found = layers.iter().any(|l| l.layer_name_as_c_str().is_ok_and(|name| name == VALIDATION_LAYER));
-            if !found {
+            let found = layers.iter().find(|l| l.layer_name_as_c_str().is_ok_and(|name| name == VALIDATION_LAYER));
+            let Some(layer) = found else {
                 return Err(Error::NoVulkan(
                     "validation was asked for, but the Khronos validation layer is not installed: \
                      sudo apt-get install vulkan-validationlayers (or run `make setup`)"
                         .into(),
                 ));
-            }
+            };
+            layer_version = layer.spec_version;
         }
 
         let app_info = vk::ApplicationInfo::default()
@@ -114,7 +123,7 @@ impl Instance {
             let loader = ext::debug_utils::Instance::new(&entry, &raw);
             // SAFETY: the instance is alive and has the debug-utils extension enabled.
             match unsafe { loader.create_debug_utils_messenger(&messenger_info, None) } {
-                Ok(messenger) => Some(DebugMessenger { loader, raw: messenger, log }),
+                Ok(messenger) => Some(DebugMessenger { loader, raw: messenger, layer_version, log }),
                 Err(e) => {
                     // SAFETY: nothing was created from the instance yet.
                     unsafe { raw.destroy_instance(None) };
@@ -130,6 +139,11 @@ impl Instance {
     /// Whether the validation layer is on.
     pub fn validating(&self) -> bool {
         self.debug.is_some()
+    }
+
+    /// The validation layer's version, when it is on.
+    pub fn validation_layer_version(&self) -> Option<u32> {
+        self.debug.as_ref().map(|d| d.layer_version)
     }
 
     /// Takes the validation messages reported since the last call (none without validation).
@@ -158,10 +172,14 @@ unsafe extern "system" fn debug_callback(
     user_data: *mut c_void,
 ) -> vk::Bool32 {
     // SAFETY: the layer passes valid callback data for the duration of the call.
-    let message = unsafe { data.as_ref() }
-        .and_then(|d| unsafe { d.message_as_c_str() })
-        .map_or_else(|| "(no message)".into(), |m| m.to_string_lossy().into_owned());
-    let text = format!("[{kind:?} {severity:?}] {message}");
+    let data = unsafe { data.as_ref() };
+    let text_of = |text: Option<&CStr>| text.map(|t| t.to_string_lossy().into_owned());
+    // SAFETY: the strings of valid callback data are null or null-terminated.
+    let message = text_of(data.and_then(|d| unsafe { d.message_as_c_str() })).unwrap_or("(no message)".into());
+    // The message's identifier (a VUID, or SYNC-HAZARD-...): newer layers leave it out of the message text.
+    // SAFETY: as above.
+    let id = text_of(data.and_then(|d| unsafe { d.message_id_name_as_c_str() })).unwrap_or_default();
+    let text = format!("[{kind:?} {severity:?}] [{id}] {message}");
     if kind.intersects(vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE) {
         log::error!("validation: {text}");
         // SAFETY: user_data is the boxed ValidationLog, alive until after the messenger is destroyed.

@@ -13,12 +13,14 @@ mod sampler;
 mod shader;
 #[cfg(feature = "preview")]
 mod swapchain;
+#[cfg(test)]
+mod validation_tests;
 
 pub use buffer::{Buffer, BufferDesc};
 pub use descriptor::{Descriptor, DescriptorPool};
-pub use device::{list_devices, preferred_device, Device, DeviceInfo};
+pub use device::{list_devices, preferred_device, version_string, Device, DeviceInfo};
 pub use image::{layer_range, layout_transition, whole_image_copy, Access, Image, ImageDesc, ImageView};
-pub use instance::{Instance, ValidationLog, INSTALL_HINT};
+pub use instance::{Instance, ValidationLog, INSTALL_HINT, SYNC_VALIDATION_SEES_DYNAMIC_RENDERING};
 pub use pipeline::{GraphicsPipelineDesc, Pipeline, PipelineLayout};
 pub use sampler::Sampler;
 pub use shader::{ShaderCompiler, ShaderModule, ShaderSources};

@@ -53,6 +53,8 @@ pub struct Swapchain {
     pub images: Vec<vk::Image>,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
+    /// Whether its images can be copied out (for screenshots).
+    pub readable: bool,
     /// Signalled when an acquired image may be written.
     pub acquired: vk::Semaphore,
     /// One per image: signalled when its copy is done, waited on by its presentation.
@@ -102,6 +104,25 @@ impl Swapchain {
         } else {
             capabilities.max_image_count
         });
+        // Frames are copied in (required), and copied out for screenshots (where the surface allows it).
+        let usage = vk::ImageUsageFlags::TRANSFER_DST
+            | (capabilities.supported_usage_flags & vk::ImageUsageFlags::TRANSFER_SRC);
+        if !capabilities.supported_usage_flags.contains(vk::ImageUsageFlags::TRANSFER_DST) {
+            return Err(Error::Device(format!(
+                "device {}: this window's swapchain images cannot be copied into (usage {:?})",
+                device.info.name, capabilities.supported_usage_flags
+            )));
+        }
+        // Every frame is opaque (alpha 255): any way of compositing alpha shows it the same.
+        let composite_alpha = [
+            vk::CompositeAlphaFlagsKHR::OPAQUE,
+            vk::CompositeAlphaFlagsKHR::INHERIT,
+            vk::CompositeAlphaFlagsKHR::PRE_MULTIPLIED,
+            vk::CompositeAlphaFlagsKHR::POST_MULTIPLIED,
+        ]
+        .into_iter()
+        .find(|&mode| capabilities.supported_composite_alpha.contains(mode))
+        .ok_or_else(|| Error::Device("this window's surface offers no way of compositing".into()))?;
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(surface.raw)
             .min_image_count(image_count)
@@ -109,11 +130,10 @@ impl Swapchain {
             .image_color_space(format.color_space)
             .image_extent(extent)
             .image_array_layers(1)
-            // Frames are copied in, and copied out for screenshots.
-            .image_usage(vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC)
+            .image_usage(usage)
             .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
             .pre_transform(capabilities.current_transform)
-            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
+            .composite_alpha(composite_alpha)
             .present_mode(vk::PresentModeKHR::FIFO)
             .clipped(true);
         let loader = khr::swapchain::Device::new(&device.instance.raw, &device.raw);
@@ -125,6 +145,7 @@ impl Swapchain {
                 images: Vec::new(),
                 format: format.format,
                 extent,
+                readable: usage.contains(vk::ImageUsageFlags::TRANSFER_SRC),
                 acquired: vk::Semaphore::null(),
                 rendered: Vec::new(),
                 loader,
