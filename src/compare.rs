@@ -90,6 +90,28 @@ pub fn compare(candidate: &RgbImage, reference: &RgbImage, excluded: &[bool]) ->
     }
 }
 
+/// The pixels more than `levels` off (in any channel) whose eight neighbours are all more than `levels` off
+/// too: the inside of a region of difference. Differences only along edges, lines at most two pixels wide (a
+/// silhouette's or a shadow edge's coverage, which rasterizers may decide differently), have none; a missing
+/// highlight or shadow, or a wrong material, has many.
+pub fn regions_of_difference(candidate: &RgbImage, reference: &RgbImage, levels: u8) -> usize {
+    assert_eq!(candidate.dimensions(), reference.dimensions(), "images of different sizes");
+    let (w, h) = candidate.dimensions();
+    let off = |x: u32, y: u32| {
+        let (a, b) = (candidate.get_pixel(x, y), reference.get_pixel(x, y));
+        (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > levels)
+    };
+    let mut inside = 0;
+    for y in 1..h.saturating_sub(1) {
+        for x in 1..w.saturating_sub(1) {
+            if (y - 1..=y + 1).all(|ny| (x - 1..=x + 1).all(|nx| off(nx, ny))) {
+                inside += 1;
+            }
+        }
+    }
+    inside
+}
+
 /// Writes `NAME-candidate.png`, `NAME-reference.png` and `NAME-diff.png` (false colour: black equal, blue 1
 /// level, green 2-3, yellow 4-15, red more; excluded pixels dark grey) under `folder`, and returns their paths.
 ///
@@ -124,4 +146,30 @@ pub fn write_failure_images(
         picture.save(path).map_err(std::io::Error::other)?;
     }
     Ok(paths)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regions_of_difference_count_the_inside_of_blobs_not_lines() {
+        let grey = RgbImage::from_pixel(20, 20, image::Rgb([100, 100, 100]));
+        let mut changed = grey.clone();
+        // A line two pixels wide, far off: an edge, no region.
+        for y in 0..20 {
+            for x in [3, 4] {
+                changed.put_pixel(x, y, image::Rgb([200, 100, 100]));
+            }
+        }
+        assert_eq!(regions_of_difference(&changed, &grey, 3), 0);
+        // A 5 x 5 blob four levels off: its 3 x 3 inside counts; three levels off does not count at all.
+        for y in 10..15 {
+            for x in 10..15 {
+                changed.put_pixel(x, y, image::Rgb([100, 104, 100]));
+            }
+        }
+        assert_eq!(regions_of_difference(&changed, &grey, 3), 9);
+        assert_eq!(regions_of_difference(&changed, &grey, 4), 0);
+    }
 }

@@ -7,7 +7,8 @@ use glam::{Mat3, Vec3};
 use vk_render::brdf::{Brdf, DiffuseModel};
 use vk_render::render::ProbeCase;
 
-/// Polar angles (degrees), grazing ones included; 90 is exactly on the horizon.
+/// Polar angles (degrees), grazing ones included; 90 is exactly on the horizon, where only finiteness is
+/// checked (see [`sign_determined`]).
 const THETAS: [f32; 11] = [0.0, 5.0, 20.0, 35.0, 45.0, 60.0, 75.0, 85.0, 89.0, 89.9, 90.0];
 /// Azimuth differences (degrees).
 const DELTA_PHIS: [f32; 7] = [0.0, 10.0, 45.0, 90.0, 135.0, 179.0, 180.0];
@@ -44,7 +45,8 @@ fn cases(models: &[Brdf]) -> Vec<ProbeCase> {
 /// Runs the probe and compares with the Rust mirror: relative error <= 1e-4, absolute floor 1e-6.
 fn gpu_matches_rust(name: &str, models: &[Brdf]) {
     let cases = cases(models);
-    assert!(cases.len() >= 4000, "{name}: only {} cases", cases.len());
+    let compared = cases.iter().filter(|c| sign_determined(c)).count();
+    assert!(compared >= 4000, "{name}: only {compared} cases compared");
     let gpu = common::renderer().probe_brdfs(&cases).expect("probe with no validation message");
     let (error, i) = worst_error(&cases, &gpu, name);
     let case = &cases[i];
@@ -56,12 +58,25 @@ fn gpu_matches_rust(name: &str, models: &[Brdf]) {
     );
 }
 
-/// The largest error in units of the tolerance, and the case it occurs at.
+/// Whether the side of the horizon of both directions is certain. At exactly 90 degrees n . w is a rounding
+/// error (about 1e-8), and its sign decides whether a BRDF is zero: it depends on how the driver orders and
+/// contracts the dot product's multiply-adds, so two right answers can differ there. Such cases are only
+/// checked to be finite.
+fn sign_determined(case: &ProbeCase) -> bool {
+    let n = case.n.as_dvec3();
+    [case.wi, case.wo].iter().all(|w| n.dot(w.as_dvec3()).abs() > 1e-5)
+}
+
+/// The largest error in units of the tolerance, and the case it occurs at, over the cases whose directions'
+/// sides of the horizon are certain; every case must be finite.
 fn worst_error(cases: &[ProbeCase], gpu: &[Vec3], name: &str) -> (f32, usize) {
     let mut worst = (0.0f32, 0usize);
     for (i, (case, g)) in cases.iter().zip(gpu).enumerate() {
-        let cpu = case.brdf.eval(case.n, case.wi, case.wo);
         assert!(g.is_finite(), "{name}: GPU gave {g} for {case:?}");
+        if !sign_determined(case) {
+            continue;
+        }
+        let cpu = case.brdf.eval(case.n, case.wi, case.wo);
         let error = ((*g - cpu).abs() / (cpu.abs() * 1e-4).max(Vec3::splat(1e-6))).max_element();
         if error > worst.0 {
             worst = (error, i);

@@ -87,8 +87,14 @@ fn sweep_writes_labelled_tiles_and_a_sheet() {
     // The tiles differ as their sigma says: 152 at the centre for sigma 0, 112 for 0.6.
     assert_eq!(zero.get_pixel(75, 50).0, [152, 152, 152]);
     assert_eq!(rough.get_pixel(75, 50).0, [112, 112, 112]);
+    // The sheet is the two tiles under the swept key, each labelled with its value: drawn again here from
+    // the tiles, it must match pixel for pixel (a missing or wrong label differs in its strip).
     let sheet = image::open(&sheet).unwrap().into_rgb8();
-    assert!(sheet.width() > 300 && sheet.height() > 100);
+    let labelled = [("sigma = 0".to_string(), zero), ("sigma = 0.6".to_string(), rough)];
+    let expected = vk_render::sheet::contact_sheet(Some("material.matte.sigma"), &labelled, 4);
+    assert!(sheet == expected, "the sheet is not the tiles labelled with their values");
+    let unlabelled = [(String::new(), labelled[0].1.clone()), (String::new(), labelled[1].1.clone())];
+    assert!(sheet != vk_render::sheet::contact_sheet(Some("material.matte.sigma"), &unlabelled, 4));
 }
 
 #[test]

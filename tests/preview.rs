@@ -125,8 +125,11 @@ fn edited_files_are_reloaded_and_broken_ones_keep_the_last_good_image() {
     std::fs::write(&lambert, good_shader.replace("return kd * INV_PI;", "return kd * ;")).unwrap();
     std::fs::write(&scene_path, original.replace("radius = 1.0", "radius = -1.0")).unwrap();
     pause();
-    // Mended: the shader back, and a brighter sphere, which the last frame must show.
-    std::fs::write(&lambert, &good_shader).unwrap();
+    // Mended, each differently from the start: a Lambert shader at half its reflectance, and a brighter
+    // sphere. The last frame must show both, so both reloads are seen in its pixels, not only in the log.
+    let halved = good_shader.replace("return kd * INV_PI;", "return 0.5 * kd * INV_PI;");
+    assert_ne!(halved, good_shader);
+    std::fs::write(&lambert, halved).unwrap();
     std::fs::write(&scene_path, original.replace("kd = [0.5, 0.5, 0.5]", "kd = [0.9, 0.9, 0.9]")).unwrap();
     let output = child.wait_with_output().unwrap();
     succeeded(&output);
@@ -134,9 +137,12 @@ fn edited_files_are_reloaded_and_broken_ones_keep_the_last_good_image() {
     assert!(stderr.contains("brdf/lambert.glsl") && stderr.contains("keeping the last good shaders"), "{stderr}");
     assert!(stderr.contains("object.0.radius = -1") && stderr.contains("keeping the last good scene"), "{stderr}");
     let shot = image::open(&shot).unwrap().into_rgb8();
+    // The embedded (unhalved) Lambert with every kd halved: the sphere's 0.9 and the plane's red.
+    let size = ["image.width=160", "image.height=120"];
     let expected =
-        offscreen("fig1-lambert.toml", &["image.width=160", "image.height=120", "material.grey.kd=[0.9, 0.9, 0.9]"]);
+        offscreen("fig1-lambert.toml", &[size[0], size[1], "material.grey.kd=0.45", "material.red.kd=[0.5, 0.0, 0.0]"]);
     assert_same(&shot, &expected, "after the reloads");
+    assert_ne!(shot, offscreen("fig1-lambert.toml", &[size[0], size[1], "material.grey.kd=0.9"]), "shader kept");
 }
 
 fn copy_tree(from: &Path, to: &Path) {

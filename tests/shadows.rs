@@ -92,18 +92,23 @@ fn a_light_casting_no_shadow_lights_everything() {
 
 #[test]
 fn a_bigger_shadow_map_moves_the_edge_less() {
-    // The edge's error shrinks with the texel: 256 texels must be worse than the 1024 default, both valid.
-    let scene = test_scene("sphere-shadow.toml");
-    let coarse =
-        Scene::load(&root().join("tests/scenes/sphere-shadow.toml"), &["image.shadow_map_size=64".parse().unwrap()])
-            .unwrap();
+    // The edge's error shrinks with the texel: each size, set explicitly, must be worse than the next one
+    // up. Were shadow_map_size ignored, the three would be equal.
+    let with_size = |size: u32| {
+        let size = format!("image.shadow_map_size={size}").parse().unwrap();
+        Scene::load(&root().join("tests/scenes/sphere-shadow.toml"), &[size]).unwrap()
+    };
+    let scene = with_size(1024);
     let traced = reference::render(&scene).unwrap();
     let expected = traced.image.to_rgb8(&scene.image);
     let everything = vec![false; expected.len() / 3];
-    let fine = compare(&render(&scene).to_rgb8(&scene.image), &expected, &everything);
-    let rough = compare(&render(&coarse).to_rgb8(&scene.image), &expected, &everything);
-    eprintln!("1024: {fine}\n64: {rough}");
-    assert!(rough.fraction_over_3 > fine.fraction_over_3, "64 texels: {rough}; 1024: {fine}");
+    let error = |size: u32| {
+        let c = compare(&render(&with_size(size)).to_rgb8(&scene.image), &expected, &everything);
+        eprintln!("{size} texels: {c}");
+        c.fraction_over_3
+    };
+    let (coarse, medium, fine) = (error(64), error(256), error(1024));
+    assert!(coarse > medium && medium > fine, "64: {coarse}, 256: {medium}, 1024: {fine} (fractions over 3 levels)");
 }
 
 #[test]

@@ -144,15 +144,138 @@ impl GpuObject {
 
 #[cfg(test)]
 mod tests {
+    use std::collections::HashMap;
+    use std::mem::{offset_of, size_of};
+
     use super::*;
+    use crate::vulkan::{ShaderCompiler, ShaderSources};
+
+    /// What the compiled GLSL says of its structs: each member's byte offset by struct and member name, and
+    /// the array stride of each runtime array by its element's struct name. Read from the SPIR-V's own
+    /// decorations (the compiler keeps names: it generates debug information).
+    struct SpirvLayouts {
+        offsets: HashMap<(String, String), u32>,
+        strides: HashMap<String, u32>,
+    }
+
+    fn spirv_layouts(spirv: &[u32]) -> SpirvLayouts {
+        const OP_NAME: u32 = 5;
+        const OP_MEMBER_NAME: u32 = 6;
+        const OP_TYPE_RUNTIME_ARRAY: u32 = 29;
+        const OP_DECORATE: u32 = 71;
+        const OP_MEMBER_DECORATE: u32 = 72;
+        const DECORATION_ARRAY_STRIDE: u32 = 6;
+        const DECORATION_OFFSET: u32 = 35;
+        let text = |words: &[u32]| -> String {
+            let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).take_while(|&b| b != 0).collect();
+            String::from_utf8(bytes).unwrap()
+        };
+        let (mut names, mut member_names, mut element_of) = (HashMap::new(), HashMap::new(), HashMap::new());
+        let (mut member_offsets, mut array_strides) = (Vec::new(), Vec::new());
+        let mut at = 5; // past the header
+        while at < spirv.len() {
+            let (count, opcode) = ((spirv[at] >> 16) as usize, spirv[at] & 0xffff);
+            let operands = &spirv[at + 1..at + count];
+            match opcode {
+                OP_NAME => drop(names.insert(operands[0], text(&operands[1..]))),
+                OP_MEMBER_NAME => drop(member_names.insert((operands[0], operands[1]), text(&operands[2..]))),
+                OP_TYPE_RUNTIME_ARRAY => drop(element_of.insert(operands[0], operands[1])),
+                OP_MEMBER_DECORATE if operands[2] == DECORATION_OFFSET => {
+                    member_offsets.push((operands[0], operands[1], operands[3]));
+                }
+                OP_DECORATE if operands[1] == DECORATION_ARRAY_STRIDE => array_strides.push((operands[0], operands[2])),
+                _ => {}
+            }
+            at += count;
+        }
+        let offsets = member_offsets
+            .into_iter()
+            .map(|(id, member, offset)| ((names[&id].clone(), member_names[&(id, member)].clone()), offset))
+            .collect();
+        let strides = array_strides
+            .into_iter()
+            .filter_map(|(id, stride)| Some((names.get(element_of.get(&id)?)?.clone(), stride)))
+            .collect();
+        SpirvLayouts { offsets, strides }
+    }
+
+    /// Asserts that every member of the GLSL struct `glsl` is at the offset `rust` gives for it, and that
+    /// the struct has no member `rust` leaves out.
+    fn assert_offsets(layouts: &SpirvLayouts, glsl: &str, rust: &[(&str, usize)]) {
+        let members: HashMap<&str, u32> =
+            layouts.offsets.iter().filter(|((s, _), _)| s == glsl).map(|((_, m), &o)| (m.as_str(), o)).collect();
+        assert_eq!(members.len(), rust.len(), "{glsl}: the GLSL has members {members:?}");
+        for &(member, offset) in rust {
+            assert_eq!(members.get(member).map(|&o| o as usize), Some(offset), "{glsl}.{member}");
+        }
+    }
 
     #[test]
-    fn sizes_match_the_glsl_layouts() {
-        // std140 Frame: mat4 (64) + vec4 (16) + uint padded to 16.
-        assert_eq!(std::mem::size_of::<GpuFrame>(), 96);
-        assert_eq!(std::mem::size_of::<GpuPointLight>(), 48);
-        // std430 Material: 3 vec4 (48) + 8 scalars (32).
-        assert_eq!(std::mem::size_of::<GpuMaterial>(), 80);
-        assert_eq!(std::mem::size_of::<GpuObject>(), 64 + 64 + 80 + 16);
+    fn field_offsets_match_the_glsl_layouts() {
+        let compiler = ShaderCompiler::new(ShaderSources::default()).unwrap();
+        let layouts = spirv_layouts(&compiler.compile("forward.frag").unwrap());
+        assert_offsets(
+            &layouts,
+            "Frame",
+            &[
+                ("view_projection", offset_of!(GpuFrame, view_projection)),
+                ("camera_position", offset_of!(GpuFrame, camera_position)),
+                ("light_count", offset_of!(GpuFrame, light_count)),
+                ("shadow_texel_angle", offset_of!(GpuFrame, shadow_texel_angle)),
+                ("shadow_filter", offset_of!(GpuFrame, shadow_filter)),
+            ],
+        );
+        assert_offsets(
+            &layouts,
+            "PointLight",
+            &[
+                ("position", offset_of!(GpuPointLight, position)),
+                ("radiance", offset_of!(GpuPointLight, radiance)),
+                ("shadow", offset_of!(GpuPointLight, shadow)),
+            ],
+        );
+        assert_offsets(
+            &layouts,
+            "Material",
+            &[
+                ("kd", offset_of!(GpuMaterial, kd)),
+                ("ks", offset_of!(GpuMaterial, ks)),
+                ("f0", offset_of!(GpuMaterial, f0)),
+                ("brdf", offset_of!(GpuMaterial, brdf)),
+                ("shininess", offset_of!(GpuMaterial, shininess)),
+                ("sigma", offset_of!(GpuMaterial, sigma)),
+                ("roughness", offset_of!(GpuMaterial, roughness)),
+                ("metalness", offset_of!(GpuMaterial, metalness)),
+                ("diffuse", offset_of!(GpuMaterial, diffuse)),
+                ("pad0", offset_of!(GpuMaterial, pad)),
+                ("pad1", offset_of!(GpuMaterial, pad) + 4),
+            ],
+        );
+        assert_offsets(
+            &layouts,
+            "ObjectData",
+            &[
+                ("model", offset_of!(GpuObject, model)),
+                ("normal_matrix", offset_of!(GpuObject, normal_matrix)),
+                ("material", offset_of!(GpuObject, material)),
+                ("flags", offset_of!(GpuObject, flags)),
+            ],
+        );
+        // The storage buffers' arrays step by the Rust structs' sizes.
+        assert_eq!(layouts.strides.get("PointLight"), Some(&(size_of::<GpuPointLight>() as u32)));
+        assert_eq!(layouts.strides.get("ObjectData"), Some(&(size_of::<GpuObject>() as u32)));
+    }
+
+    #[test]
+    fn a_moved_glsl_member_is_caught() {
+        // The check itself can fail: swap two members of Material in the GLSL.
+        let material = include_str!("../../shaders/common/material.glsl");
+        let swapped = material.replace("float shininess;\n    float sigma;", "float sigma;\n    float shininess;");
+        assert_ne!(swapped, material);
+        let sources = ShaderSources::default().with_file("common/material.glsl", swapped);
+        let compiler = ShaderCompiler::new(sources).unwrap();
+        let layouts = spirv_layouts(&compiler.compile("forward.frag").unwrap());
+        let shininess = layouts.offsets[&("Material".to_string(), "shininess".to_string())];
+        assert_ne!(shininess as usize, offset_of!(GpuMaterial, shininess));
     }
 }

@@ -2,6 +2,8 @@
 //! comparison against the CPU reference with pictures written on failure.
 #![allow(dead_code)] // each test binary uses its own subset
 
+pub mod golden;
+
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, OnceLock};
 
