@@ -176,16 +176,34 @@ fn intersect(geometry: &Geometry, origin: Vec3, direction: Vec3, max_t: f32) -> 
             (t > MIN_T && t < max_t).then_some((t, normal))
         }
         Geometry::Mesh { ref triangles, ref normals } => {
-            let hit = triangles.cast_local_ray_and_get_normal(&Ray::new(origin, direction), max_t, false)?;
-            let t = hit.time_of_impact;
-            if t <= MIN_T {
-                return None;
+            let cast = |from: Vec3| {
+                let hit = triangles.cast_local_ray_and_get_normal(&Ray::new(from, direction), max_t, false)?;
+                let t = hit.time_of_impact;
+                if t <= MIN_T {
+                    return None;
+                }
+                let [a, b, c] = triangles.indices()[hit.subshape as usize].map(|i| i as usize);
+                let vertices = triangles.vertices();
+                let weights = barycentric(from + t * direction, vertices[a], vertices[b], vertices[c]);
+                let normal = weights.x * normals[a] + weights.y * normals[b] + weights.z * normals[c];
+                Some((t, normal.normalize_or(hit.normal)))
+            };
+            let hit = cast(origin)?;
+            if hit.1.dot(direction) <= 0.0 {
+                return Some(hit);
             }
-            let [a, b, c] = triangles.indices()[hit.subshape as usize].map(|i| i as usize);
-            let vertices = triangles.vertices();
-            let weights = barycentric(origin + t * direction, vertices[a], vertices[b], vertices[c]);
-            let normal = weights.x * normals[a] + weights.y * normals[b] + weights.z * normals[c];
-            Some((t, normal.normalize_or(hit.normal)))
+            // The far side of the surface: seen for real (an open mesh from inside), or through a crack. A
+            // ray passing exactly through an edge that two triangles share can miss both, as parry3d's
+            // ray-triangle test is not watertight (a rasterizer's coverage is); which rays do depends on the
+            // last bit of the vertices (another libm's sin and cos moved one pixel of the test sphere onto
+            // its far side). Rays nudged a millionth across the view find the near side if it is there.
+            let (u, v) = direction.any_orthonormal_pair();
+            let nudge = 1e-6 * origin.abs().max_element().max(1.0);
+            [origin + u * nudge, origin + v * nudge, origin - (u + v) * nudge]
+                .into_iter()
+                .filter_map(cast)
+                .chain([hit])
+                .min_by(|a, b| a.0.total_cmp(&b.0))
         }
     }
 }
