@@ -1,84 +1,14 @@
 #version 460
 
-// Forward shading: L = sum over lights of f_r(wi, wo) * radiance / d^2 * max(0, n . wi), no ambient.
+// The forward pass of meshes and planes: each fragment shaded at the interpolated point and normal.
+// Spheres have their own pass, forward_sphere.frag.
 
-#include "common/scene.glsl"
-#include "common/brdf.glsl"
+#include "common/shading.glsl"
 
 layout(location = 0) in vec4 in_world_position;
 layout(location = 1) in vec3 in_world_normal;
 
 layout(location = 0) out vec4 out_radiance;
-
-const float MIN_NOV = 1e-4;
-
-// A sphere is shaded where the view ray meets the exact sphere, as a ray tracer does: the tessellated mesh
-// decides coverage and depth, but its flat facets lie up to 7.5e-5 radii inside the sphere, enough to move
-// a pixel across an 8-bit level (the course's gold centre, 231.003, would truncate to 230). The model matrix
-// of a sphere is translate(center) * scale(radius). Rays that miss (silhouette fragments) keep the mesh's
-// interpolated point and normal.
-void exact_sphere_point(mat4 model, vec3 eye, inout vec3 p, inout vec3 n) {
-    vec3 center = model[3].xyz;
-    float radius = length(model[0].xyz);
-    vec3 d = normalize(p - eye);
-    vec3 oc = eye - center;
-    float b = dot(oc, d);
-    float discriminant = b * b - (dot(oc, oc) - radius * radius);
-    if (discriminant < 0.0) {
-        return;
-    }
-    float root = sqrt(discriminant);
-    // The nearer intersection in front of the eye; the far one when the eye is inside the sphere.
-    float t = -b - root > 0.0 ? -b - root : -b + root;
-    if (t <= 0.0) {
-        return;
-    }
-    p = eye + t * d;
-    n = (p - center) / radius;
-}
-
-// The largest tan(theta_i) the shadow bias follows: beyond (theta_i > 87 degrees) the light's cosine
-// leaves too little radiance for acne to show.
-const float MAX_BIAS_SLOPE = 20.0;
-
-// Whether the light sees p (1) or not (0), or the fraction of PCF lookups that do.
-//
-// The cube holds, per texel, the distance from the light to the nearest surface along the texel's centre
-// direction. A lookup `reach` texels away from p's own direction (0.71, half a diagonal, for the nearest
-// texel; one texel more for PCF's outer lookups) meets the surface at a distance that differs by about
-// d * texel * reach * tan(theta_i): the bias covers that, plus half a texel for curvature and rounding.
-// Shadows therefore start within about d * texel * (0.75 tan(theta_i) + 0.5) of the exact contact with hard
-// lookups: 2 mm at 4 units with 1024 texels, head-on.
-float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
-    if (light.shadow.x < 0) {
-        return 1.0;
-    }
-    bool pcf = frame.shadow_filter != 0u;
-    vec3 from_light = p - light.position.xyz;
-    float tan_theta = min(sqrt(max(1.0 - NoL * NoL, 0.0)) / NoL, MAX_BIAS_SLOPE);
-    float texel = frame.shadow_texel_angle;
-    float reach = pcf ? 1.75 : 0.75;
-    float unoccluded = distance - distance * texel * (reach * tan_theta + 0.5);
-    float layer = float(light.shadow.x);
-    // Explicit level 0: this runs in non-uniform control flow (per light, past a per-fragment test), where
-    // texture()'s implicit level of detail is undefined; the cubes have one level anyway.
-    if (!pcf) {
-        return textureLod(shadow_maps, vec4(from_light, layer), 0.0).r < unoccluded ? 0.0 : 1.0;
-    }
-    // PCF: 3 x 3 lookups one texel apart across the lookup direction, averaged.
-    vec3 u = normalize(abs(from_light.x) < 0.9 * distance ? cross(from_light, vec3(1.0, 0.0, 0.0))
-                                                           : cross(from_light, vec3(0.0, 1.0, 0.0)));
-    vec3 v = normalize(cross(from_light, u));
-    float step_length = distance * texel;
-    float lit = 0.0;
-    for (int i = -1; i <= 1; ++i) {
-        for (int j = -1; j <= 1; ++j) {
-            vec3 direction = from_light + (float(i) * u + float(j) * v) * step_length;
-            lit += textureLod(shadow_maps, vec4(direction, layer), 0.0).r < unoccluded ? 0.0 : 1.0;
-        }
-    }
-    return lit / 9.0;
-}
 
 void main() {
     ObjectData object = objects[draw.object_index];
@@ -88,29 +18,5 @@ void main() {
         out_radiance = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
-    vec3 n = normalize(in_world_normal);
-    if (object.flags.y != 0u) {
-        exact_sphere_point(object.model, frame.camera_position.xyz, p, n);
-    }
-    vec3 wo = normalize(frame.camera_position.xyz - p);
-    if (object.flags.x != 0u && dot(n, wo) < 0.0) {
-        n = -n;
-    } else if (dot(n, wo) < MIN_NOV) {
-        // At a silhouette an interpolated normal can face away from a camera that still sees the
-        // tessellated surface: bend it back over the horizon, since the BRDFs reflect nothing below it.
-        n = normalize(n + (MIN_NOV - dot(n, wo)) * wo);
-    }
-    vec3 radiance = vec3(0.0);
-    for (uint i = 0u; i < frame.light_count; ++i) {
-        vec3 to_light = lights[i].position.xyz - p;
-        float d2 = dot(to_light, to_light);
-        vec3 wi = to_light * inversesqrt(d2);
-        float NoL = dot(n, wi);
-        if (NoL <= 0.0) {
-            continue;  // the light is behind the surface
-        }
-        float visible = light_visibility(lights[i], p, NoL, sqrt(d2));
-        radiance += brdf_eval(object.material, n, wi, wo) * (lights[i].radiance.rgb / d2) * (NoL * visible);
-    }
-    out_radiance = vec4(radiance, 1.0);
+    out_radiance = vec4(outgoing_radiance(object, p, normalize(in_world_normal)), 1.0);
 }

@@ -39,6 +39,29 @@ impl HdrImage {
     }
 }
 
+/// The order of the bytes of a 4-byte texel (a window's swapchain format).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TexelOrder {
+    Rgba,
+    Bgra,
+}
+
+/// Writes `linear` (four native-endian f32 a pixel, alpha unread) after the whole output transform into
+/// `texels` (4 bytes a pixel in `order`, alpha 255): per channel exactly what [`HdrImage::to_rgb8`] computes.
+pub fn encode_texels(linear: &[u8], settings: &ImageSettings, order: TexelOrder, texels: &mut [u8]) {
+    let channel = |c: &[u8]| {
+        let value = f32::from_ne_bytes([c[0], c[1], c[2], c[3]]) * settings.exposure;
+        encode(tonemap(value, settings.tonemap), settings.encoding)
+    };
+    for (pixel, texel) in linear.chunks_exact(16).zip(texels.chunks_exact_mut(4)) {
+        let [r, g, b] = [0, 4, 8].map(|i| channel(&pixel[i..i + 4]));
+        texel.copy_from_slice(&match order {
+            TexelOrder::Rgba => [r, g, b, 255],
+            TexelOrder::Bgra => [b, g, r, 255],
+        });
+    }
+}
+
 /// The tone curve, per channel, applied after exposure.
 pub fn tonemap(c: f32, curve: Tonemap) -> f32 {
     match curve {

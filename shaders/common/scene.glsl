@@ -10,7 +10,6 @@ struct ObjectData {
     mat4 normal_matrix;  // inverse transpose of model (upper 3x3 used)
     Material material;
     uvec4 flags;         // x: two-sided (a plane has no inside: shade the side the camera sees)
-                         // y: a sphere, shaded on the exact surface (see forward.frag)
 };
 
 struct PointLight {
@@ -21,10 +20,14 @@ struct PointLight {
 
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_projection;
+    // The camera's ray through framebuffer position (x, y), unnormalized: pixel_rays * vec4(x, y, 1, 0)
+    // (columns: its change per pixel right and down, and the ray through the corner (0, 0)). The rays of
+    // the CPU reference, through any sample position.
+    mat4 pixel_rays;
     vec4 camera_position;
     uint light_count;
     float shadow_texel_angle;  // 2 / shadow_map_size: a texel's angle at the centre of a cube face
-    uint shadow_filter;        // 0: hard, 1: PCF
+    uint samples;              // MSAA samples per pixel, at Vulkan's standard sample locations
 } frame;
 
 layout(set = 0, binding = 1, std430) readonly buffer Lights { PointLight lights[]; };

@@ -1,7 +1,8 @@
 //! Triangle meshes: the tessellated sphere, the infinite plane and OBJ files (through tobj).
 
-use std::path::Path;
-use std::sync::{Arc, OnceLock};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::{Mat4, Vec3};
 
@@ -31,6 +32,43 @@ impl Mesh {
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
+
+    /// Whether the mesh is closed and wound counter-clockwise seen from outside: every edge is run by
+    /// exactly two triangles, in opposite directions, and the volume they enclose is positive. From any
+    /// viewpoint outside such a mesh every back face lies behind a front face, so culling them changes
+    /// nothing that is seen.
+    pub fn is_closed_outward(&self) -> bool {
+        let mut edges = std::collections::HashSet::with_capacity(self.indices.len());
+        for t in self.indices.chunks_exact(3) {
+            for (from, to) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                if !edges.insert((from, to)) {
+                    return false; // an edge run twice in the same direction
+                }
+            }
+        }
+        if !edges.iter().all(|&(from, to)| edges.contains(&(to, from))) {
+            return false;
+        }
+        let position = |i: u32| {
+            let p = self.vertices[i as usize].position;
+            glam::DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
+        };
+        // Points at infinity (w = 0) bound no volume.
+        let finite = self.vertices.iter().all(|v| v.position[3] == 1.0);
+        let volume: f64 =
+            self.indices.chunks_exact(3).map(|t| position(t[0]).dot(position(t[1]).cross(position(t[2])))).sum();
+        finite && volume > 0.0
+    }
+
+    /// The bounding box of the vertices: (min, max).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.vertices
+            .iter()
+            .map(|v| Vec3::from_slice(&v.position[..3]))
+            .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(min, max), p| {
+                (min.min(p), max.max(p))
+            })
+    }
 }
 
 /// A mesh placed in the world.
@@ -39,49 +77,94 @@ pub struct PlacedMesh {
     pub mesh: Arc<Mesh>,
     /// Object to world.
     pub model: Mat4,
+    /// The mesh bounds a sphere (of model translate(center) * scale(radius)) that is drawn exactly.
+    pub exact_sphere: bool,
 }
 
-/// Longitude and latitude steps of the sphere mesh.
+/// Longitude and latitude steps of the mesh that stands for every sphere.
 ///
-/// With 256 x 128 steps (1.4 degrees each) the chord's sag is 7.5e-5 of the radius and the interpolated
-/// normal is off by under 1e-4 rad, so interior shading stays within one 8-bit level of an exact sphere
-/// (checked by `tests/render.rs` against a ray-traced sphere).
-pub const SPHERE_SEGMENTS: u32 = 256;
-pub const SPHERE_RINGS: u32 = 128;
+/// The fragments of a sphere find the exact sphere along their rays (shaders/common/sphere.glsl), so the mesh
+/// only has to bound it: its facets decide which fragments look, not what is covered or shaded. With 32 x 16
+/// steps they stand at most 2% of the radius outside the sphere, and a sphere costs 960 triangles.
+pub const BOUNDING_SPHERE_SEGMENTS: u32 = 32;
+pub const BOUNDING_SPHERE_RINGS: u32 = 16;
 
-/// The unit sphere at the origin, built once per process and shared by every sphere.
-pub fn unit_sphere() -> Arc<Mesh> {
+/// How far outside the unit sphere the nearest facet of [`bounding_sphere`] stands, over float rounding.
+const BOUNDING_MARGIN: f32 = 1e-3;
+
+/// The mesh that bounds the unit sphere at the origin, built once per process and shared by every sphere.
+pub fn bounding_sphere() -> Arc<Mesh> {
     static SPHERE: OnceLock<Arc<Mesh>> = OnceLock::new();
-    SPHERE.get_or_init(|| Arc::new(uv_sphere(SPHERE_SEGMENTS, SPHERE_RINGS))).clone()
+    SPHERE.get_or_init(|| Arc::new(bounding_uv_sphere(BOUNDING_SPHERE_SEGMENTS, BOUNDING_SPHERE_RINGS))).clone()
 }
 
-/// A unit sphere with `segments` steps of longitude and `rings` of latitude; normals are exact.
-pub fn uv_sphere(segments: u32, rings: u32) -> Mesh {
-    let mut vertices = Vec::with_capacity(((segments + 1) * (rings + 1)) as usize);
-    for ring in 0..=rings {
-        let theta = std::f32::consts::PI * ring as f32 / rings as f32;
-        for segment in 0..=segments {
-            let phi = std::f32::consts::TAU * segment as f32 / segments as f32;
-            let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
-            vertices.push(Vertex { position: n.extend(1.0).into(), normal: n.into() });
+/// [`uv_sphere`] scaled so that every facet lies outside the unit sphere, by [`BOUNDING_MARGIN`] at least.
+pub fn bounding_uv_sphere(segments: u32, rings: u32) -> Mesh {
+    let mut mesh = uv_sphere(segments, rings);
+    let position = |i: u32| Vec3::from_slice(&mesh.vertices[i as usize].position[..3]);
+    // A facet's plane is as far from the centre as its normal's component along any of its vertices.
+    let nearest = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(position);
+            (b - a).cross(c - a).normalize().dot(a).abs()
+        })
+        .fold(f32::INFINITY, f32::min);
+    let scale = (1.0 + BOUNDING_MARGIN) / nearest;
+    for vertex in &mut mesh.vertices {
+        for coordinate in &mut vertex.position[..3] {
+            *coordinate *= scale;
         }
     }
-    let stride = segments + 1;
+    mesh
+}
+
+/// A unit sphere with `segments` steps of longitude and `rings` of latitude; normals are exact. Each pole is
+/// one vertex and the seam is not doubled, so that the mesh is closed (see [`Mesh::is_closed_outward`]).
+pub fn uv_sphere(segments: u32, rings: u32) -> Mesh {
+    let at = |theta: f32, phi: f32| {
+        let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+        Vertex { position: n.extend(1.0).into(), normal: n.into() }
+    };
+    // The north pole, the rings between the poles, the south pole.
+    let mut vertices = Vec::with_capacity((segments * (rings - 1) + 2) as usize);
+    vertices.push(at(0.0, 0.0));
+    for ring in 1..rings {
+        let theta = std::f32::consts::PI * ring as f32 / rings as f32;
+        vertices
+            .extend((0..segments).map(|segment| at(theta, std::f32::consts::TAU * segment as f32 / segments as f32)));
+    }
+    vertices.push(at(std::f32::consts::PI, 0.0));
+    let south = vertices.len() as u32 - 1;
+    // Vertex `segment` (wrapping around) of ring `ring` (1..rings), or the pole at either end.
+    let vertex = |ring: u32, segment: u32| match ring {
+        0 => 0,
+        r if r == rings => south,
+        r => 1 + (r - 1) * segments + segment % segments,
+    };
     let mut indices = Vec::with_capacity((segments * rings * 6) as usize);
     for ring in 0..rings {
         for segment in 0..segments {
-            let a = ring * stride + segment;
-            let b = a + stride;
-            // The pole rows are single points: skip the triangle that would have zero area there.
+            let (a, a1) = (vertex(ring, segment), vertex(ring, segment + 1));
+            let (b, b1) = (vertex(ring + 1, segment), vertex(ring + 1, segment + 1));
+            // At the poles the quad is a triangle: skip the one that would have zero area.
             if ring != 0 {
-                indices.extend([a, a + 1, b]);
+                indices.extend([a, a1, b]);
             }
             if ring != rings - 1 {
-                indices.extend([a + 1, b + 1, b]);
+                indices.extend([a1, b1, b]);
             }
         }
     }
     Mesh { vertices, indices }
+}
+
+/// The infinite plane through the origin of normal +y, built once per process and shared by every plane,
+/// each placed by its model matrix.
+pub fn unit_plane() -> Arc<Mesh> {
+    static PLANE: OnceLock<Arc<Mesh>> = OnceLock::new();
+    PLANE.get_or_init(|| Arc::new(infinite_plane(Vec3::ZERO, Vec3::Y))).clone()
 }
 
 /// An infinite plane: a fan of four triangles from `point` to four vertices at infinity (w = 0).
@@ -144,6 +227,32 @@ pub fn load_obj(path: &Path) -> Result<Mesh, String> {
     Ok(mesh)
 }
 
+/// [`load_obj`], parsed once per process while the file's modification time and size hold: sweeps, the
+/// figures and the preview's frames draw the same files again and again. An edited file is read again
+/// and replaces the old mesh.
+///
+/// # Errors
+/// As [`load_obj`].
+pub fn load_obj_kept(path: &Path) -> Result<Arc<Mesh>, String> {
+    type Kept = HashMap<PathBuf, (FileStamp, Arc<Mesh>)>;
+    static KEPT: OnceLock<Mutex<Kept>> = OnceLock::new();
+    let kept = KEPT.get_or_init(Mutex::default);
+    let stamp = std::fs::metadata(path).ok().map(|m| (m.modified().ok(), m.len()));
+    let Some(stamp) = stamp else { return load_obj(path).map(Arc::new) };
+    let lock = || kept.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((kept_stamp, mesh)) = lock().get(path) {
+        if *kept_stamp == stamp {
+            return Ok(mesh.clone());
+        }
+    }
+    let mesh = Arc::new(load_obj(path)?);
+    lock().insert(path.to_path_buf(), (stamp, mesh.clone()));
+    Ok(mesh)
+}
+
+/// What tells an edited file: its modification time and size.
+type FileStamp = (Option<std::time::SystemTime>, u64);
+
 /// Why a mesh file could not be opened; for the installed bunny, which package provides it.
 fn cannot_open(path: &Path, error: &std::io::Error) -> String {
     if path == Path::new(BUNNY_PATH) {
@@ -183,20 +292,24 @@ pub fn place_objects(scene: &Scene) -> Result<Vec<PlacedMesh>> {
         .map(|(index, object)| {
             Ok(match &object.shape {
                 Shape::Sphere { center, radius } => PlacedMesh {
-                    mesh: unit_sphere(),
+                    mesh: bounding_sphere(),
                     model: Mat4::from_translation(*center) * Mat4::from_scale(Vec3::splat(*radius)),
+                    exact_sphere: true,
                 },
-                Shape::Plane { point, normal } => {
-                    PlacedMesh { mesh: Arc::new(infinite_plane(*point, *normal)), model: Mat4::IDENTITY }
-                }
+                Shape::Plane { point, normal } => PlacedMesh {
+                    mesh: unit_plane(),
+                    model: Mat4::from_translation(*point)
+                        * Mat4::from_quat(glam::Quat::from_rotation_arc(Vec3::Y, normal.normalize())),
+                    exact_sphere: false,
+                },
                 Shape::Mesh { path, scale, rotate, translate } => {
-                    let mesh = load_obj(path).map_err(|message| Error::Mesh {
+                    let mesh = load_obj_kept(path).map_err(|message| Error::Mesh {
                         scene: scene.source.clone(),
                         key: format!("object.{index}.path"),
                         value: path.display().to_string(),
                         message,
                     })?;
-                    PlacedMesh { mesh: Arc::new(mesh), model: Shape::mesh_transform(*scale, *rotate, *translate) }
+                    PlacedMesh { mesh, model: Shape::mesh_transform(*scale, *rotate, *translate), exact_sphere: false }
                 }
             })
         })
@@ -221,5 +334,49 @@ mod tests {
         let normals = smooth_normals(&positions, &[0, 2, 1, 0, 1, 3, 0, 3, 2]);
         // The corner at the origin touches three faces of equal area facing -z, -y and -x.
         assert!(normals[0].abs_diff_eq(-Vec3::ONE.normalize(), 1e-6), "{}", normals[0]);
+    }
+
+    #[test]
+    fn the_bounding_sphere_holds_the_unit_sphere_closely() {
+        let mesh = bounding_uv_sphere(BOUNDING_SPHERE_SEGMENTS, BOUNDING_SPHERE_RINGS);
+        let position = |i: u32| Vec3::from_slice(&mesh.vertices[i as usize].position[..3]).as_dvec3();
+        let mut nearest = f64::INFINITY;
+        for t in mesh.indices.chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(position);
+            let normal = (b - a).cross(c - a).normalize();
+            // Wound counter-clockwise seen from outside, and every facet's plane outside the sphere.
+            assert!(normal.dot(a + b + c) > 0.0);
+            nearest = nearest.min(normal.dot(a));
+        }
+        assert!(nearest > 1.0 + 0.5 * f64::from(BOUNDING_MARGIN), "{nearest}");
+        let farthest = mesh.vertices.iter().map(|v| Vec3::from_slice(&v.position[..3]).length()).fold(0.0, f32::max);
+        assert!(farthest < 1.025, "{farthest}");
+        assert_eq!(mesh.triangle_count(), 960);
+    }
+
+    #[test]
+    fn a_kept_obj_is_read_again_once_edited() {
+        let folder = std::env::temp_dir().join(format!("vk-render-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&folder).unwrap();
+        let path = folder.join("tri.obj");
+        std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let first = load_obj_kept(&path).unwrap();
+        assert!(Arc::ptr_eq(&first, &load_obj_kept(&path).unwrap()), "parsed twice");
+        std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n").unwrap();
+        assert_eq!(load_obj_kept(&path).unwrap().triangle_count(), 2, "an edited file kept its old mesh");
+        std::fs::remove_dir_all(&folder).unwrap();
+    }
+
+    #[test]
+    fn closed_outward_meshes_are_told_from_open_or_inside_out_ones() {
+        assert!(uv_sphere(16, 8).is_closed_outward());
+        assert!(bounding_uv_sphere(32, 16).is_closed_outward());
+        assert!(!infinite_plane(Vec3::ZERO, Vec3::Y).is_closed_outward());
+        let mut inside_out = uv_sphere(16, 8);
+        inside_out.indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+        assert!(!inside_out.is_closed_outward());
+        let mut open = uv_sphere(16, 8);
+        open.indices.truncate(open.indices.len() - 3);
+        assert!(!open.is_closed_outward());
     }
 }

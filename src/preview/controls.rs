@@ -47,47 +47,67 @@ pub fn key_action(key: &Key) -> Option<Action> {
     })
 }
 
-/// One step of a test script, played one per frame: a key pressed, or the window resized.
+/// One step of a test script, played one per frame: a key pressed, a drag, or the window resized.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ScriptStep {
     Key(Key),
+    /// A drag of [`ORBIT_STEP_PIXELS`] to the right with the button held: the camera turns about the
+    /// look-at point.
+    Orbit,
     Resize(u32, u32),
 }
 
 /// Parses a test script: steps separated by commas, each a key ("Tab", "Up", "Down", "Left", "Right",
-/// "Esc", or one character as typed: "2", "l") or "resize:WxH". Keys go through [`key_action`] as a real
+/// "Esc", or one character as typed: "2", "l"), "Orbit" (a drag of [`ORBIT_STEP_PIXELS`] to the right) or
+/// "resize:WxH", and any of them repeated by a count: "Orbit*100". Keys go through [`key_action`] as a real
 /// key press does, so a key with no action does nothing.
 ///
 /// # Errors
-/// A message naming the entry that is neither.
+/// A message naming the entry that is none of these.
 pub fn parse_script(script: &str) -> Result<Vec<ScriptStep>, String> {
-    script
-        .split(',')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .map(|entry| {
-            let named = match entry {
-                "Tab" => Some(NamedKey::Tab),
-                "Up" => Some(NamedKey::ArrowUp),
-                "Down" => Some(NamedKey::ArrowDown),
-                "Left" => Some(NamedKey::ArrowLeft),
-                "Right" => Some(NamedKey::ArrowRight),
-                "Esc" => Some(NamedKey::Escape),
-                _ => None,
-            };
-            if let Some(named) = named {
-                return Ok(ScriptStep::Key(Key::Named(named)));
-            }
-            if entry.chars().count() == 1 {
-                return Ok(ScriptStep::Key(Key::Character(entry.into())));
-            }
-            let size = entry.strip_prefix("resize:").and_then(|s| s.split_once('x'));
-            match size.and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?))) {
-                Some((w, h)) if w > 0 && h > 0 => Ok(ScriptStep::Resize(w, h)),
-                _ => Err(format!("`{entry}` is neither a key nor resize:WIDTHxHEIGHT")),
-            }
-        })
-        .collect()
+    let mut steps = Vec::new();
+    for entry in script.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let (step, count) = match entry.rsplit_once('*') {
+            Some((step, count)) => match count.parse::<usize>() {
+                Ok(count) if count > 0 => (step, count),
+                _ => return Err(format!("`{entry}`: the count after * is not a whole number above 0")),
+            },
+            None => (entry, 1),
+        };
+        let step = parse_step(step)?;
+        steps.extend(std::iter::repeat_n(step, count));
+    }
+    Ok(steps)
+}
+
+/// How far one "Orbit" step of a script drags the mouse, in pixels: 5, turning the camera by 0.05 rad
+/// (2.9 degrees) about the look-at point.
+pub const ORBIT_STEP_PIXELS: f32 = 5.0;
+
+fn parse_step(entry: &str) -> Result<ScriptStep, String> {
+    if entry == "Orbit" {
+        return Ok(ScriptStep::Orbit);
+    }
+    let named = match entry {
+        "Tab" => Some(NamedKey::Tab),
+        "Up" => Some(NamedKey::ArrowUp),
+        "Down" => Some(NamedKey::ArrowDown),
+        "Left" => Some(NamedKey::ArrowLeft),
+        "Right" => Some(NamedKey::ArrowRight),
+        "Esc" => Some(NamedKey::Escape),
+        _ => None,
+    };
+    if let Some(named) = named {
+        return Ok(ScriptStep::Key(Key::Named(named)));
+    }
+    if entry.chars().count() == 1 {
+        return Ok(ScriptStep::Key(Key::Character(entry.into())));
+    }
+    let size = entry.strip_prefix("resize:").and_then(|s| s.split_once('x'));
+    match size.and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?))) {
+        Some((w, h)) if w > 0 && h > 0 => Ok(ScriptStep::Resize(w, h)),
+        _ => Err(format!("`{entry}` is neither a key, Orbit nor resize:WIDTHxHEIGHT")),
+    }
 }
 
 /// A camera orbiting the scene's look-at point.
@@ -279,7 +299,7 @@ mod tests {
         let keys = parse_script(script).unwrap().into_iter();
         keys.map(|step| match step {
             ScriptStep::Key(key) => key_action(&key).unwrap_or_else(|| panic!("{key:?} has no action")),
-            ScriptStep::Resize(..) => panic!("a resize in {script}"),
+            ScriptStep::Orbit | ScriptStep::Resize(..) => panic!("not a key in {script}"),
         })
         .collect()
     }
@@ -357,6 +377,10 @@ mod tests {
             vec![NextObject, SetBrdf(2), ToggleShadows, Screenshot, ResetCamera, Quit, Metalness(-1)]
         });
         assert!(parse_script("Tab,Foo").unwrap_err().contains("`Foo`"));
+        assert_eq!(parse_script("Orbit*3,Tab").unwrap().len(), 4);
+        assert_eq!(parse_script("Orbit").unwrap(), vec![ScriptStep::Orbit]);
+        assert!(parse_script("Orbit*0").unwrap_err().contains("`Orbit*0`"));
+        assert!(parse_script("Orbit*x").is_err());
         assert!(parse_script("resize:0x10").is_err());
     }
 }

@@ -22,12 +22,14 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::Key;
 use winit::window::{Window, WindowId};
 
-pub use controls::{key_action, parse_script, Action, Controls, Orbit, ScriptStep};
+pub use controls::{key_action, parse_script, Action, Controls, Orbit, ScriptStep, ORBIT_STEP_PIXELS};
 
 use crate::error::{Error, Result};
+use crate::output::TexelOrder;
 use crate::scene::{Camera, Override, Scene};
 use crate::vulkan::{
-    layer_range, layout_transition, whole_image_copy, Access, BufferDesc, Instance, ShaderSources, Surface, Swapchain,
+    layer_range, layout_transition, whole_image_copy, Access, Buffer, BufferDesc, Instance, ShaderSources, Surface,
+    Swapchain,
 };
 use crate::{Renderer, RendererOptions};
 
@@ -58,11 +60,44 @@ pub struct PreviewOptions {
 pub fn run(options: PreviewOptions) -> Result<()> {
     let scene = Scene::load(&options.scene, &options.overrides)?;
     let event_loop = EventLoop::new().map_err(|e| Error::Preview(format!("cannot open a window: {e}")))?;
-    let mut app = App { options, scene: Some(scene), running: None, error: None };
+    let mut app = App { options, scene: Some(scene), running: None, error: None, pace: FramePace::default() };
     event_loop.run_app(&mut app).map_err(|e| Error::Preview(format!("the window's event loop failed: {e}")))?;
-    match app.error {
-        Some(error) => Err(error),
-        None => Ok(()),
+    if let Some(error) = app.error {
+        return Err(error);
+    }
+    if app.options.frames.is_some() {
+        eprintln!("{}", app.pace);
+    }
+    Ok(())
+}
+
+/// When frames were presented: how many, and the first and the last one's time.
+#[derive(Clone, Copy, Debug, Default)]
+struct FramePace {
+    presented: u64,
+    first: Option<Instant>,
+    last: Option<Instant>,
+}
+
+impl FramePace {
+    fn presented_one(&mut self) {
+        let now = Instant::now();
+        self.presented += 1;
+        self.first.get_or_insert(now);
+        self.last = Some(now);
+    }
+}
+
+impl std::fmt::Display for FramePace {
+    /// "presented N frames in T s (F frames/s)", T from the first frame presented to the last, so that
+    /// start-up is not in it, and F the N - 1 frames after the first over T.
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        let seconds = match (self.first, self.last) {
+            (Some(first), Some(last)) => (last - first).as_secs_f64(),
+            _ => 0.0,
+        };
+        let rate = if seconds > 0.0 { (self.presented - 1) as f64 / seconds } else { 0.0 };
+        write!(f, "presented {} frames in {seconds:.3} s ({rate:.1} frames/s)", self.presented)
     }
 }
 
@@ -72,6 +107,8 @@ struct App {
     scene: Option<Scene>,
     running: Option<Running>,
     error: Option<Error>,
+    /// Kept past the window, for the line printed at exit.
+    pace: FramePace,
 }
 
 impl App {
@@ -150,6 +187,9 @@ impl ApplicationHandler for App {
     }
 
     fn exiting(&mut self, _: &ActiveEventLoop) {
+        if let Some(running) = &self.running {
+            self.pace = running.pace;
+        }
         // Vulkan objects go before the window they present to.
         self.running = None;
     }
@@ -164,6 +204,8 @@ struct Running {
     swapchain: Option<Swapchain>,
     surface: Arc<Surface>,
     renderer: Renderer,
+    /// The host buffer each frame is encoded into and copied to the swapchain from, kept while the size holds.
+    upload: Option<Buffer>,
     /// The scene as the user changed it, and the last one that rendered.
     scene: Scene,
     last_good: Scene,
@@ -174,7 +216,7 @@ struct Running {
     script: VecDeque<ScriptStep>,
     options_frames: Option<u64>,
     deadline: Option<Instant>,
-    presented: u64,
+    pace: FramePace,
     screenshot_at_exit: Option<PathBuf>,
     screenshot_next: Option<PathBuf>,
     screenshots_saved: u32,
@@ -203,6 +245,7 @@ impl Running {
         let controls = Controls::new(&scene);
         Ok(Self {
             swapchain: None,
+            upload: None,
             surface,
             renderer,
             last_good: scene.clone(),
@@ -214,7 +257,7 @@ impl Running {
             script: options.script.drain(..).collect(),
             options_frames: options.frames,
             deadline: options.duration.map(|d| Instant::now() + d),
-            presented: 0,
+            pace: FramePace::default(),
             screenshot_at_exit: options.screenshot.clone(),
             screenshot_next: None,
             screenshots_saved: 0,
@@ -283,6 +326,10 @@ impl Running {
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         match self.script.pop_front() {
             Some(ScriptStep::Key(key)) => self.key_pressed(&key, event_loop)?,
+            Some(ScriptStep::Orbit) => {
+                self.controls.orbit.drag(ORBIT_STEP_PIXELS, 0.0);
+                self.camera_moved();
+            }
             Some(ScriptStep::Resize(width, height)) => {
                 let _ = self.window.request_inner_size(PhysicalSize::new(width, height));
             }
@@ -298,14 +345,14 @@ impl Running {
             self.swapchain = Some(Swapchain::new(self.renderer.device(), &self.surface, size.width, size.height)?);
         }
         let started = Instant::now();
-        let last = self.options_frames.is_some_and(|n| self.presented + 1 >= n)
+        let last = self.options_frames.is_some_and(|n| self.pace.presented + 1 >= n)
             || self.deadline.is_some_and(|deadline| Instant::now() >= deadline);
         let screenshot =
             self.screenshot_next.take().or_else(|| if last { self.screenshot_at_exit.clone() } else { None });
         if !self.present(screenshot.as_deref())? {
             return Ok(()); // the swapchain went out of date: made anew on the next frame
         }
-        self.presented += 1;
+        self.pace.presented_one();
         let frame_ms = started.elapsed().as_secs_f64() * 1e3;
         self.window.set_title(&self.controls.title(&self.scene, frame_ms));
         if last {
@@ -321,33 +368,28 @@ impl Running {
         let (width, height) = (swapchain.extent.width, swapchain.extent.height);
         self.scene.image.width = width;
         self.scene.image.height = height;
-        let hdr = match self.renderer.render(&self.scene) {
-            Ok(hdr) => {
-                self.last_good = self.scene.clone();
-                hdr
-            }
+        let device = self.renderer.device().clone();
+        let size = u64::from(width) * u64::from(height) * 4;
+        let upload = match self.upload.take().filter(|b| b.desc.size == size) {
+            Some(upload) => upload,
+            None => device.create_buffer(
+                BufferDesc { size, usage: vk::BufferUsageFlags::TRANSFER_SRC, location: MemoryLocation::CpuToGpu },
+                "frame upload",
+            )?,
+        };
+        let upload = self.upload.insert(upload);
+        let bgra = swapchain.format == vk::Format::B8G8R8A8_UNORM;
+        let order = if bgra { TexelOrder::Bgra } else { TexelOrder::Rgba };
+        match self.renderer.render_texels(&self.scene, order, upload.bytes_mut()?) {
+            Ok(()) => self.last_good = self.scene.clone(),
             Err(e @ (Error::Scene { .. } | Error::Mesh { .. })) => {
                 log::error!("{e} (keeping the last good scene)");
                 self.scene = self.last_good.clone();
                 return Ok(true);
             }
             Err(e) => return Err(e),
-        };
-        let rgb = hdr.to_rgb8(&self.scene.image);
-        let bgra = swapchain.format == vk::Format::B8G8R8A8_UNORM;
-        let texels: Vec<u8> = rgb
-            .pixels()
-            .flat_map(|p| {
-                let [r, g, b] = p.0;
-                if bgra {
-                    [b, g, r, 255]
-                } else {
-                    [r, g, b, 255]
-                }
-            })
-            .collect();
-        let device = self.renderer.device().clone();
-        let staging = device.create_buffer_with_data(&texels, vk::BufferUsageFlags::TRANSFER_SRC, "frame upload")?;
+        }
+        let staging = &*upload;
         let readback = match screenshot {
             Some(path) if !swapchain.readable => {
                 return Err(Error::Output {
@@ -356,11 +398,7 @@ impl Running {
                 })
             }
             Some(_) => Some(device.create_buffer(
-                BufferDesc {
-                    size: texels.len() as u64,
-                    usage: vk::BufferUsageFlags::TRANSFER_DST,
-                    location: MemoryLocation::GpuToCpu,
-                },
+                BufferDesc { size, usage: vk::BufferUsageFlags::TRANSFER_DST, location: MemoryLocation::GpuToCpu },
                 "screenshot",
             )?),
             None => None,

@@ -1,25 +1,40 @@
-//! The forward pass: one pipeline per sample count, shading every object against every light.
+//! The forward pass: shading every object against every light, with a pipeline per kind of object (meshes,
+//! exact spheres), BRDF, shadow filter and sample count.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::passes::{begin_rendering, vertex_input, PassTargets};
+use super::gpu_types::brdf_id;
+use super::passes::{begin_rendering, build_pipeline, CompiledShader, PassTargets};
 use crate::error::Result;
-use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderCompiler};
+use crate::mesh::PlacedMesh;
+use crate::scene::{ImageSettings, Object, ShadowFilter};
+use crate::vulkan::{Device, Pipeline, PipelineLayout, ShaderCompiler};
 
 /// The HDR colour format: 32-bit float, so that the course's truncation to 8 bits sees exact values.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// The forward pass's compiled shaders and pipelines, made once per renderer.
+/// The forward pass's compiled shaders, and its pipelines, each built on first use.
 pub struct ForwardPass {
-    vertex_spirv: Vec<u32>,
-    fragment_spirv: Vec<u32>,
+    meshes: (CompiledShader, CompiledShader),
+    spheres: (CompiledShader, CompiledShader),
     layout: Arc<PipelineLayout>,
-    pipelines: HashMap<vk::SampleCountFlags, Pipeline>,
+    pipelines: HashMap<PipelineKey, Pipeline>,
     device: Arc<Device>,
+}
+
+/// What a forward pipeline is built for: the sample count, meshes or exact spheres, and the values of the
+/// fragment shader's specialization constants: the BRDF (brdf.glsl's `BRDF_SPECIALIZED`) and the shadow
+/// filter (shading.glsl's `SHADOW_FILTER`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct PipelineKey {
+    samples: vk::SampleCountFlags,
+    exact_sphere: bool,
+    brdf: u32,
+    shadow_filter: u32,
 }
 
 impl ForwardPass {
@@ -29,40 +44,46 @@ impl ForwardPass {
     /// `Error::Shader` if a shader does not compile.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler, layout: &Arc<PipelineLayout>) -> Result<Self> {
         Ok(Self {
-            vertex_spirv: compiler.compile("forward.vert")?,
-            fragment_spirv: compiler.compile("forward.frag")?,
+            meshes: (CompiledShader::new(compiler, "forward.vert")?, CompiledShader::new(compiler, "forward.frag")?),
+            spheres: (
+                CompiledShader::new(compiler, "forward_sphere.vert")?,
+                CompiledShader::new(compiler, "forward_sphere.frag")?,
+            ),
             layout: layout.clone(),
             pipelines: HashMap::new(),
             device: device.clone(),
         })
     }
 
-    /// The pipeline for `samples`, built the first time that count is asked for.
+    /// The pipeline that draws `placed` with `object`'s BRDF into `image`'s targets.
     ///
     /// # Errors
     /// `Error::Vulkan` if the driver refuses the pipeline.
-    pub fn pipeline(&mut self, samples: vk::SampleCountFlags) -> Result<&Pipeline> {
-        if !self.pipelines.contains_key(&samples) {
-            let vertex = self.device.create_shader_module(&self.vertex_spirv, "forward.vert")?;
-            let fragment = self.device.create_shader_module(&self.fragment_spirv, "forward.frag")?;
-            let (bindings, attributes) = vertex_input();
-            let desc = GraphicsPipelineDesc {
-                vertex: &vertex,
-                fragment: &fragment,
-                vertex_bindings: &bindings,
-                vertex_attributes: &attributes,
-                color_formats: &[COLOR_FORMAT],
-                depth_format: DEPTH_FORMAT,
-                // Reverse-Z: nearer is greater. Equal passes so that the plane's horizon (depth 0) is drawn.
-                depth_compare: vk::CompareOp::GREATER_OR_EQUAL,
-                samples,
-                layout: &self.layout,
-            };
-            let pipeline = self.device.create_graphics_pipeline(&desc, &format!("forward x{}", samples.as_raw()))?;
-            log::debug!("built the forward pipeline for {} sample(s)", samples.as_raw());
-            self.pipelines.insert(samples, pipeline);
+    pub fn pipeline(&mut self, image: &ImageSettings, object: &Object, placed: &PlacedMesh) -> Result<vk::Pipeline> {
+        let key = PipelineKey {
+            samples: vk::SampleCountFlags::from_raw(image.samples),
+            exact_sphere: placed.exact_sphere,
+            brdf: brdf_id(&object.brdf),
+            shadow_filter: match image.shadow_filter {
+                ShadowFilter::Hard => 0,
+                ShadowFilter::Pcf => 1,
+            },
+        };
+        if let Some(pipeline) = self.pipelines.get(&key) {
+            return Ok(pipeline.raw);
         }
-        Ok(&self.pipelines[&samples])
+        let (vertex, fragment) = if key.exact_sphere { &self.spheres } else { &self.meshes };
+        let pipeline = build_pipeline(
+            &self.device,
+            &self.layout,
+            (vertex, fragment),
+            (COLOR_FORMAT, key.samples),
+            &[key.brdf, key.shadow_filter],
+        )?;
+        log::debug!("built the forward pipeline for {key:?}");
+        let raw = pipeline.raw;
+        self.pipelines.insert(key, pipeline);
+        Ok(raw)
     }
 }
 

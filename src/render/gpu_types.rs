@@ -4,19 +4,21 @@ use glam::camera::rh::proj::vulkan;
 use glam::{Mat4, Vec3};
 
 use crate::brdf::{Brdf, DiffuseModel};
-use crate::scene::{Camera, ImageSettings, Object, PointLight, ShadowFilter, Shape};
+use crate::scene::{Camera, ImageSettings, Object, PointLight, Shape};
 
 /// `Frame` (std140).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GpuFrame {
     pub view_projection: [[f32; 4]; 4],
+    /// The camera ray through framebuffer position (x, y) is `pixel_rays * (x, y, 1, 0)`: see [`PixelRays`].
+    pub pixel_rays: [[f32; 4]; 4],
     pub camera_position: [f32; 4],
     pub light_count: u32,
     /// The angle a shadow-map texel subtends at the centre of a cube face: 2 / size.
     pub shadow_texel_angle: f32,
-    /// 0: hard shadows, 1: PCF.
-    pub shadow_filter: u32,
+    /// MSAA samples per pixel.
+    pub samples: u32,
     pub pad: u32,
 }
 
@@ -66,23 +68,57 @@ pub const BRDF_COOK_TORRANCE: u32 = 4;
 pub const DIFFUSE_OREN_NAYAR: u32 = 0;
 pub const DIFFUSE_LAMBERT: u32 = 1;
 
+/// The camera rays of an image, unnormalized, as a linear function of the framebuffer position (x right,
+/// y down, pixel centres at +0.5): the same rays as the CPU reference's through pixel centres, and through
+/// any sample position.
+#[derive(Clone, Copy, Debug)]
+pub struct PixelRays {
+    /// The ray's change per unit of x and of y.
+    pub per_x: Vec3,
+    pub per_y: Vec3,
+    /// The ray through the framebuffer's corner (0, 0).
+    pub corner: Vec3,
+}
+
+impl PixelRays {
+    /// The course's camera frame (w backwards, u right, v up) over an image of `width` x `height`.
+    pub fn new(camera: &Camera, width: u32, height: u32) -> Self {
+        let w = (camera.position - camera.look_at).normalize();
+        let u = camera.up.cross(w).normalize();
+        let v = w.cross(u);
+        let half_height = (camera.fov_y.to_radians() * 0.5).tan();
+        let half_width = half_height * width as f32 / height as f32;
+        Self {
+            per_x: u * (2.0 * half_width / width as f32),
+            per_y: v * (-2.0 * half_height / height as f32),
+            corner: -half_width * u + half_height * v - w,
+        }
+    }
+
+    /// The unit ray through framebuffer position (x, y).
+    pub fn at(&self, x: f32, y: f32) -> Vec3 {
+        (self.corner + x * self.per_x + y * self.per_y).normalize()
+    }
+}
+
 impl GpuFrame {
-    /// The camera's view-projection for an image of `aspect` = width / height.
+    /// The camera's view-projection for the image.
     ///
     /// Reverse-Z with an infinite far plane: depth is near / distance, 1 at the near plane and 0 at infinity,
     /// so the plane's vertices at infinity land exactly on the far end and float depth keeps its precision.
     /// glam's Vulkan projection also flips y, Vulkan's clip space having y pointing down the image.
-    pub fn new(camera: &Camera, aspect: f32, image: &ImageSettings, light_count: usize, near: f32) -> Self {
+    pub fn new(camera: &Camera, image: &ImageSettings, light_count: usize, near: f32) -> Self {
+        let aspect = image.width as f32 / image.height as f32;
         let projection = vulkan::perspective_infinite_reverse(camera.fov_y.to_radians(), aspect, near);
+        let rays = PixelRays::new(camera, image.width, image.height);
         Self {
             view_projection: (projection * camera.view()).to_cols_array_2d(),
+            pixel_rays: [rays.per_x.extend(0.0), rays.per_y.extend(0.0), rays.corner.extend(0.0), glam::Vec4::ZERO]
+                .map(|c| c.to_array()),
             camera_position: camera.position.extend(1.0).into(),
             light_count: light_count as u32,
             shadow_texel_angle: 2.0 / image.shadow_map_size as f32,
-            shadow_filter: match image.shadow_filter {
-                ShadowFilter::Hard => 0,
-                ShadowFilter::Pcf => 1,
-            },
+            samples: image.samples,
             pad: 0,
         }
     }
@@ -99,19 +135,26 @@ impl GpuPointLight {
     }
 }
 
+/// The id of `brdf` in `shaders/common/brdf.glsl`.
+pub fn brdf_id(brdf: &Brdf) -> u32 {
+    match brdf {
+        Brdf::Lambert { .. } => BRDF_LAMBERT,
+        Brdf::OrenNayar { .. } => BRDF_OREN_NAYAR,
+        Brdf::Phong { .. } => BRDF_PHONG,
+        Brdf::BlinnPhong { .. } => BRDF_BLINN_PHONG,
+        Brdf::CookTorrance { .. } => BRDF_COOK_TORRANCE,
+    }
+}
+
 impl From<&Brdf> for GpuMaterial {
     fn from(brdf: &Brdf) -> Self {
         let rgb = |v: Vec3| v.extend(0.0).to_array();
-        let base = GpuMaterial::default();
+        let base = GpuMaterial { brdf: brdf_id(brdf), ..GpuMaterial::default() };
         match *brdf {
-            Brdf::Lambert { kd } => GpuMaterial { brdf: BRDF_LAMBERT, kd: rgb(kd), ..base },
-            Brdf::OrenNayar { kd, sigma } => GpuMaterial { brdf: BRDF_OREN_NAYAR, kd: rgb(kd), sigma, ..base },
-            Brdf::Phong { kd, ks, shininess } => {
-                GpuMaterial { brdf: BRDF_PHONG, kd: rgb(kd), ks: rgb(ks), shininess, ..base }
-            }
-            Brdf::BlinnPhong { kd, ks, shininess } => {
-                GpuMaterial { brdf: BRDF_BLINN_PHONG, kd: rgb(kd), ks: rgb(ks), shininess, ..base }
-            }
+            Brdf::Lambert { kd } => GpuMaterial { kd: rgb(kd), ..base },
+            Brdf::OrenNayar { kd, sigma } => GpuMaterial { kd: rgb(kd), sigma, ..base },
+            Brdf::Phong { kd, ks, shininess } => GpuMaterial { kd: rgb(kd), ks: rgb(ks), shininess, ..base },
+            Brdf::BlinnPhong { kd, ks, shininess } => GpuMaterial { kd: rgb(kd), ks: rgb(ks), shininess, ..base },
             Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse } => GpuMaterial {
                 brdf: BRDF_COOK_TORRANCE,
                 kd: rgb(kd),
@@ -132,12 +175,11 @@ impl GpuObject {
     /// An object placed by `model`.
     pub fn new(object: &Object, model: Mat4) -> Self {
         let two_sided = matches!(object.shape, Shape::Plane { .. });
-        let exact_sphere = matches!(object.shape, Shape::Sphere { .. });
         Self {
             model: model.to_cols_array_2d(),
             normal_matrix: model.inverse().transpose().to_cols_array_2d(),
             material: GpuMaterial::from(&object.brdf),
-            flags: [u32::from(two_sided), u32::from(exact_sphere), 0, 0],
+            flags: [u32::from(two_sided), 0, 0, 0],
         }
     }
 }
@@ -213,16 +255,17 @@ mod tests {
     #[test]
     fn field_offsets_match_the_glsl_layouts() {
         let compiler = ShaderCompiler::new(ShaderSources::default()).unwrap();
-        let layouts = spirv_layouts(&compiler.compile("forward.frag").unwrap());
+        let layouts = spirv_layouts(&compiler.compile("forward_sphere.frag").unwrap());
         assert_offsets(
             &layouts,
             "Frame",
             &[
                 ("view_projection", offset_of!(GpuFrame, view_projection)),
+                ("pixel_rays", offset_of!(GpuFrame, pixel_rays)),
                 ("camera_position", offset_of!(GpuFrame, camera_position)),
                 ("light_count", offset_of!(GpuFrame, light_count)),
                 ("shadow_texel_angle", offset_of!(GpuFrame, shadow_texel_angle)),
-                ("shadow_filter", offset_of!(GpuFrame, shadow_filter)),
+                ("samples", offset_of!(GpuFrame, samples)),
             ],
         );
         assert_offsets(
@@ -277,5 +320,32 @@ mod tests {
         let layouts = spirv_layouts(&compiler.compile("forward.frag").unwrap());
         let shininess = layouts.offsets[&("Material".to_string(), "shininess".to_string())];
         assert_ne!(shininess as usize, offset_of!(GpuMaterial, shininess));
+    }
+
+    #[test]
+    fn pixel_rays_are_the_reference_cameras_rays() {
+        // The reference's rays (src/reference.rs), written out: through pixel centres of a 600 x 400 image.
+        let camera = Camera {
+            position: Vec3::new(1.0, 2.0, -3.0),
+            look_at: Vec3::new(0.5, -0.2, 4.0),
+            up: Vec3::Y,
+            fov_y: 50.0,
+        };
+        let (width, height) = (600.0_f32, 400.0_f32);
+        let w = (camera.position - camera.look_at).normalize();
+        let u = camera.up.cross(w).normalize();
+        let v = w.cross(u);
+        let half_height = (camera.fov_y.to_radians() * 0.5).tan();
+        let half_width = half_height * width / height;
+        let rays = PixelRays::new(&camera, 600, 400);
+        for (x, y) in [(0.0, 0.0), (599.0, 0.0), (0.0, 399.0), (300.0, 200.0), (123.0, 321.0)] {
+            let sx = (2.0 * (x + 0.5) / width - 1.0) * half_width;
+            let sy = (1.0 - 2.0 * (y + 0.5) / height) * half_height;
+            let reference = (sx * u + sy * v - w).normalize();
+            let ray = rays.at(x + 0.5, y + 0.5);
+            assert!(ray.abs_diff_eq(reference, 1e-6), "pixel ({x}, {y}): {ray} != {reference}");
+        }
+        // Row 0 is the top of the image: its rays point more upwards than the bottom row's.
+        assert!(rays.at(300.0, 0.5).dot(v) > rays.at(300.0, 399.5).dot(v));
     }
 }

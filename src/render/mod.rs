@@ -4,28 +4,30 @@ mod forward;
 pub mod gpu_types;
 mod passes;
 mod probe;
+mod scene_data;
 mod shadow;
+mod targets;
 
 use std::sync::Arc;
 
 use ash::vk;
-use glam::Vec3;
-use gpu_allocator::MemoryLocation;
+use glam::{Mat4, Vec3};
 
 use crate::error::{Error, Result};
 use crate::mesh::{place_objects, PlacedMesh};
-use crate::output::HdrImage;
+use crate::output::{encode_texels, HdrImage, TexelOrder};
 use crate::scene::Scene;
 use crate::vulkan::{
-    whole_image_copy, Access, BufferDesc, Descriptor, Device, DeviceInfo, ImageDesc, Instance, PipelineLayout, Sampler,
-    ShaderCompiler, ShaderSources,
+    whole_image_copy, Access, Device, DeviceInfo, Instance, PipelineLayout, Sampler, ShaderCompiler, ShaderSources,
 };
 use forward::{ForwardPass, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuFrame, GpuObject, GpuPointLight};
-use passes::{barriers, draw_objects, image_barrier, upload_meshes, PassTargets};
+use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
 pub use probe::ProbeCase;
 use probe::{read_vec3s, ProbePass};
-use shadow::{cube_face_views, ShadowPass, DISTANCE_FORMAT};
+use scene_data::{SceneData, SceneValues};
+use shadow::{cube_face_views, ShadowCubes, ShadowKey, ShadowPass, DISTANCE_FORMAT};
+use targets::{Targets, BYTES_PER_PIXEL};
 
 /// The near plane's distance: with reverse-Z float depth the precision does not depend on it.
 const NEAR_PLANE: f32 = 1e-3;
@@ -55,6 +57,12 @@ pub struct Renderer {
     /// Built on first use: only the BRDF tests need it.
     probe: Option<ProbePass>,
     compiler: ShaderCompiler,
+    // Kept from image to image while they hold, by lifetime: the meshes per scene geometry, the shadow
+    // cubes per lighting, the targets per image size; the scene data is rewritten every image.
+    meshes: MeshUploads,
+    shadow_cubes: Option<ShadowCubes>,
+    targets: Option<Targets>,
+    scene_data: Option<SceneData>,
     device: Arc<Device>,
 }
 
@@ -95,7 +103,19 @@ impl Renderer {
         let shadow = ShadowPass::new(&device, &compiler, &layout)?;
         let forward = ForwardPass::new(&device, &compiler, &layout)?;
         let shadow_sampler = device.create_nearest_sampler("shadow cubes")?;
-        let renderer = Self { layout, shadow, shadow_sampler, forward, probe: None, compiler, device };
+        let renderer = Self {
+            layout,
+            shadow,
+            shadow_sampler,
+            forward,
+            probe: None,
+            compiler,
+            meshes: MeshUploads::default(),
+            shadow_cubes: None,
+            targets: None,
+            scene_data: None,
+            device,
+        };
         renderer.check_validation()?;
         Ok(renderer)
     }
@@ -117,6 +137,10 @@ impl Renderer {
         self.shadow = shadow;
         self.forward = forward;
         self.probe = None;
+        // The cubes were drawn by the old shadow shaders.
+        if let Some(cubes) = &mut self.shadow_cubes {
+            cubes.set_drawn(None);
+        }
         self.compiler = compiler;
         self.check_validation()
     }
@@ -189,11 +213,37 @@ impl Renderer {
     /// `Error::Scene` for settings the device cannot honour, `Error::Mesh` for an unloadable OBJ,
     /// `Error::Vulkan`/`Error::Allocation` from the device, `Error::Validation` if the layer complained.
     pub fn render(&mut self, scene: &Scene) -> Result<HdrImage> {
+        let bytes = self.draw_and_read_back(scene)?;
+        let (width, height) = (scene.image.width, scene.image.height);
+        Ok(HdrImage { width, height, pixels: read_vec3s(bytes, BYTES_PER_PIXEL as usize) })
+    }
+
+    /// Renders the scene and writes it after the whole output transform into `texels`, 4 bytes a pixel in
+    /// the order `order` names, alpha 255: what [`HdrImage::to_rgb8`] of [`Renderer::render`]'s image holds,
+    /// byte for byte, without the image in between (the preview's frames).
+    ///
+    /// # Errors
+    /// As [`Renderer::render`]; `Error::Vulkan(ERROR_MEMORY_MAP_FAILED)` when `texels` has the wrong size.
+    pub fn render_texels(&mut self, scene: &Scene, order: TexelOrder, texels: &mut [u8]) -> Result<()> {
+        let bytes = self.draw_and_read_back(scene)?;
+        if texels.len() / 4 != bytes.len() / BYTES_PER_PIXEL as usize {
+            return Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED));
+        }
+        encode_texels(bytes, &scene.image, order, texels);
+        Ok(())
+    }
+
+    /// Checks the scene against the device, draws it and returns the read-back buffer's bytes: four floats a
+    /// pixel, rows from the top.
+    fn draw_and_read_back(&mut self, scene: &Scene) -> Result<&[u8]> {
         self.check_image_settings(scene)?;
         let placed = place_objects(scene)?;
-        let image = self.draw(scene, &placed)?;
+        self.draw(scene, &placed)?;
         self.check_validation()?;
-        Ok(image)
+        match &self.targets {
+            Some(targets) => targets.readback.bytes(),
+            None => Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED)),
+        }
     }
 
     /// Evaluates `brdf_eval` of the GLSL on the GPU for every case (the probe pass), as float32.
@@ -226,15 +276,14 @@ impl Renderer {
         }
     }
 
-    fn draw(&mut self, scene: &Scene, placed: &[PlacedMesh]) -> Result<HdrImage> {
+    /// Draws the scene into the kept targets and copies it to their read-back buffer.
+    fn draw(&mut self, scene: &Scene, placed: &[PlacedMesh]) -> Result<()> {
         let device = self.device.clone();
         let (width, height) = (scene.image.width, scene.image.height);
         let samples = vk::SampleCountFlags::from_raw(scene.image.samples);
 
         // Scene data. Each light that casts shadows gets the next cube of the shadow cube array.
         let shadow_casters: Vec<usize> = (0..scene.lights.len()).filter(|&i| scene.lights[i].shadows).collect();
-        let frame =
-            GpuFrame::new(&scene.camera, width as f32 / height as f32, &scene.image, scene.lights.len(), NEAR_PLANE);
         let lights: Vec<GpuPointLight> = scene
             .lights
             .iter()
@@ -243,209 +292,204 @@ impl Renderer {
             .collect();
         let objects: Vec<GpuObject> =
             scene.objects.iter().zip(placed).map(|(object, p)| GpuObject::new(object, p.model)).collect();
-        let shadow_views: Vec<[[f32; 4]; 4]> = shadow_casters
+        // Every face of every cube, in drawing order.
+        let shadow_faces: Vec<PassView> = shadow_casters
             .iter()
-            .flat_map(|&i| cube_face_views(scene.lights[i].position, NEAR_PLANE))
-            .map(|m| m.to_cols_array_2d())
+            .flat_map(|&i| {
+                let viewpoint = scene.lights[i].position;
+                cube_face_views(viewpoint, NEAR_PLANE).map(|view_projection| PassView { viewpoint, view_projection })
+            })
             .collect();
-        let frame_buffer = device.create_buffer_with_data(&[frame], vk::BufferUsageFlags::UNIFORM_BUFFER, "frame")?;
-        // Storage buffers may not be empty: a scene without lights or objects binds one unread element.
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let lights_buffer = device.create_buffer_with_data(&non_empty(&lights), storage, "lights")?;
-        let objects_buffer = device.create_buffer_with_data(&non_empty(&objects), storage, "objects")?;
-        let views_buffer = device.create_buffer_with_data(&non_empty(&shadow_views), storage, "shadow views")?;
-        let meshes = upload_meshes(&device, placed)?;
-
-        // Shadow cubes: one per casting light (a single unused 1-texel cube when none casts), and one depth
-        // image reused by every face in turn.
-        let shadow_size = if shadow_casters.is_empty() { 1 } else { scene.image.shadow_map_size };
-        let cube_layers = 6 * shadow_casters.len().max(1) as u32;
-        let shadow_maps = device.create_image(
-            ImageDesc {
-                width: shadow_size,
-                height: shadow_size,
-                layers: cube_layers,
-                cube: true,
-                format: DISTANCE_FORMAT,
-                samples: vk::SampleCountFlags::TYPE_1,
-                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-                aspect: vk::ImageAspectFlags::COLOR,
-            },
-            "shadow cubes",
-        )?;
-        let shadow_depth = device.create_image(
-            ImageDesc::plain(
-                shadow_size,
-                shadow_size,
-                DEPTH_FORMAT,
-                vk::SampleCountFlags::TYPE_1,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-                vk::ImageAspectFlags::DEPTH,
-            ),
-            "shadow depth",
-        )?;
-        // One view per face of each cube, in the order the faces are drawn.
-        let face_views = (0..6 * shadow_casters.len() as u32)
-            .map(|layer| shadow_maps.layer_view(layer, 1))
-            .collect::<Result<Vec<_>>>()?;
-
-        let pool = device.create_descriptor_pool(
-            1,
-            &[
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: 1 },
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 3 },
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 1 },
-            ],
-        )?;
-        let set = pool.allocate_set(
-            self.layout.set_layouts[0],
-            &[
-                Descriptor::Buffer(vk::DescriptorType::UNIFORM_BUFFER, &frame_buffer),
-                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &lights_buffer),
-                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &objects_buffer),
-                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &views_buffer),
-                Descriptor::SampledImage(
-                    shadow_maps.view,
-                    &self.shadow_sampler,
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                ),
-            ],
-        )?;
-
-        // Targets: the multisampled colour and depth, and the single-sample image they resolve to.
-        let target = |format, samples, usage, aspect| ImageDesc::plain(width, height, format, samples, usage, aspect);
-        let resolved = device.create_image(
-            target(
-                COLOR_FORMAT,
-                vk::SampleCountFlags::TYPE_1,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-                vk::ImageAspectFlags::COLOR,
-            ),
-            "resolved colour",
-        )?;
-        let multisampled = if samples == vk::SampleCountFlags::TYPE_1 {
-            None
-        } else {
-            Some(device.create_image(
-                target(COLOR_FORMAT, samples, vk::ImageUsageFlags::COLOR_ATTACHMENT, vk::ImageAspectFlags::COLOR),
-                "multisampled colour",
-            )?)
+        let shadow_views: Vec<[[f32; 4]; 4]> =
+            shadow_faces.iter().map(|face| face.view_projection.to_cols_array_2d()).collect();
+        let values = SceneValues {
+            frame: GpuFrame::new(&scene.camera, &scene.image, scene.lights.len(), NEAR_PLANE),
+            lights: &lights,
+            objects: &objects,
+            shadow_views: &shadow_views,
         };
-        let depth = device.create_image(
-            target(DEPTH_FORMAT, samples, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT, vk::ImageAspectFlags::DEPTH),
-            "depth",
-        )?;
-        let readback = device.create_buffer(
-            BufferDesc {
-                size: u64::from(width) * u64::from(height) * 16,
-                usage: vk::BufferUsageFlags::TRANSFER_DST,
-                location: MemoryLocation::GpuToCpu,
+
+        // What is kept from the last image where it still holds, made anew where not.
+        self.meshes.update(&device, placed)?;
+        let shadow_key = ShadowKey::new(scene, placed, &shadow_casters);
+        let mut cubes = ShadowCubes::for_key(&device, self.shadow_cubes.take(), &shadow_key)?;
+        let draw_shadows = !cubes.show(&shadow_key);
+        cubes.set_drawn(None);
+        let targets = Targets::for_size(&device, self.targets.take(), width, height, samples)?;
+        let cubes_binding = (cubes.maps.view, &self.shadow_sampler);
+        let scene_data = match self.scene_data.take() {
+            Some(mut data) => {
+                data.write(&device, &values, cubes_binding)?;
+                data
+            }
+            None => SceneData::new(&device, &self.layout, &values, cubes_binding)?,
+        };
+        let forward_pipelines = scene
+            .objects
+            .iter()
+            .zip(placed)
+            .map(|(object, p)| self.forward.pipeline(&scene.image, object, p))
+            .collect::<Result<Vec<_>>>()?;
+        let shadow_pipelines: Vec<vk::Pipeline> = placed.iter().map(|p| self.shadow.pipeline(p)).collect();
+
+        let frame = FrameRecording {
+            device: &device,
+            layout: self.layout.raw,
+            set: scene_data.set,
+            placed,
+            meshes: &self.meshes,
+            shadow: draw_shadows.then_some(ShadowDrawing {
+                pipelines: &shadow_pipelines,
+                casters: &shadow_casters,
+                faces: &shadow_faces,
+            }),
+            cubes: &cubes,
+            forward: &forward_pipelines,
+            camera: PassView {
+                viewpoint: scene.camera.position,
+                view_projection: Mat4::from_cols_array_2d(&values.frame.view_projection),
             },
-            "readback",
-        )?;
-
-        let layout = self.layout.raw;
-        let shadow_pipeline = self.shadow.pipeline.raw;
-        let forward_pipeline = self.forward.pipeline(samples)?.raw;
-        let b = scene.image.background;
-        device.submit_and_wait(|cmd| {
-            // SAFETY: every handle recorded here lives until submit_and_wait has waited for the work.
-            unsafe {
-                device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[set], &[]);
-            }
-
-            // Shadow cubes, one light at a time, then ready to be sampled.
-            let cubes_to_read = if shadow_casters.is_empty() {
-                image_barrier(&shadow_maps, vk::ImageLayout::UNDEFINED, READ_ONLY, NOTHING, SAMPLED)
-            } else {
-                barriers(
-                    &device,
-                    cmd,
-                    &[image_barrier(&shadow_maps, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE)],
-                );
-                // SAFETY: as above.
-                unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, shadow_pipeline) };
-                let faces = shadow_casters.iter().flat_map(|&light| (0..6u32).map(move |face| (light as u32, face)));
-                for (face_view, light_face) in face_views.iter().zip(faces) {
-                    // The depth image is cleared for each face: the previous face's tests must be over first.
-                    barriers(
-                        &device,
-                        cmd,
-                        &[image_barrier(
-                            &shadow_depth,
-                            vk::ImageLayout::UNDEFINED,
-                            DEPTH_TARGET,
-                            DEPTH_TESTS,
-                            DEPTH_TESTS,
-                        )],
-                    );
-                    let targets = PassTargets {
-                        color: face_view.raw,
-                        resolve: None,
-                        depth: shadow_depth.view,
-                        width: shadow_size,
-                        height: shadow_size,
-                    };
-                    shadow::begin(&device, cmd, &targets);
-                    draw_objects(&device, cmd, layout, &targets, placed, &meshes, light_face);
-                    // SAFETY: as above.
-                    unsafe { device.raw.cmd_end_rendering(cmd) };
-                }
-                image_barrier(&shadow_maps, COLOR_TARGET, READ_ONLY, COLOR_WRITE, SAMPLED)
-            };
-
-            // The forward pass.
-            let mut to_targets = vec![
-                cubes_to_read,
-                image_barrier(&resolved, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE),
-                image_barrier(&depth, vk::ImageLayout::UNDEFINED, DEPTH_TARGET, NOTHING, DEPTH_TESTS),
-            ];
-            if let Some(image) = &multisampled {
-                to_targets.push(image_barrier(image, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE));
-            }
-            barriers(&device, cmd, &to_targets);
-            let targets = PassTargets {
-                color: multisampled.as_ref().unwrap_or(&resolved).view,
-                resolve: multisampled.as_ref().map(|_| resolved.view),
-                depth: depth.view,
-                width,
-                height,
-            };
-            forward::begin(&device, cmd, &targets, [b.x, b.y, b.z, 1.0]);
-            // SAFETY: as above.
-            unsafe { device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, forward_pipeline) };
-            draw_objects(&device, cmd, layout, &targets, placed, &meshes, (0, 0));
-            // SAFETY: as above.
-            unsafe { device.raw.cmd_end_rendering(cmd) };
-
-            // Read back the resolved image.
-            barriers(
-                &device,
-                cmd,
-                &[image_barrier(
-                    &resolved,
-                    COLOR_TARGET,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    COLOR_WRITE,
-                    COPY_READ,
-                )],
-            );
-            let region = whole_image_copy(width, height);
-            // SAFETY: as above.
-            unsafe {
-                device.raw.cmd_copy_image_to_buffer(
-                    cmd,
-                    resolved.raw,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    readback.raw,
-                    &[region],
-                );
-            }
-            readback.record_host_read_barrier(cmd, vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
+            targets: &targets,
+            background: scene.image.background.extend(1.0).to_array(),
+        };
+        let drawn = device.submit_and_wait(|cmd| {
+            frame.record(cmd);
             Ok(())
-        })?;
+        });
+        if drawn.is_ok() {
+            cubes.set_drawn(Some(shadow_key));
+        }
+        self.shadow_cubes = Some(cubes);
+        self.targets = Some(targets);
+        self.scene_data = Some(scene_data);
+        drawn
+    }
+}
 
-        Ok(HdrImage { width, height, pixels: read_vec3s(readback.bytes()?, 16) })
+/// One image's commands: the shadow cubes when they must be drawn, the forward pass, the read-back.
+struct FrameRecording<'a> {
+    device: &'a Device,
+    layout: vk::PipelineLayout,
+    set: vk::DescriptorSet,
+    placed: &'a [PlacedMesh],
+    meshes: &'a MeshUploads,
+    /// `None` when the cubes kept from an earlier image still hold.
+    shadow: Option<ShadowDrawing<'a>>,
+    cubes: &'a ShadowCubes,
+    /// The forward pass's pipeline for each object.
+    forward: &'a [vk::Pipeline],
+    camera: PassView,
+    targets: &'a Targets,
+    background: [f32; 4],
+}
+
+/// The shadow cubes to draw.
+struct ShadowDrawing<'a> {
+    /// The shadow pass's pipeline for each object.
+    pipelines: &'a [vk::Pipeline],
+    /// The lights that cast shadows, in cube order.
+    casters: &'a [usize],
+    /// Each face of each cube, in the same order.
+    faces: &'a [PassView],
+}
+
+impl FrameRecording<'_> {
+    fn record(&self, cmd: vk::CommandBuffer) {
+        let device = self.device;
+        // SAFETY: every handle recorded here lives until submit_and_wait has waited for the work.
+        unsafe {
+            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout, 0, &[self.set], &[]);
+        }
+        let mut to_targets: Vec<_> =
+            self.shadow.as_ref().map(|shadow| self.record_shadow_cubes(cmd, shadow)).into_iter().collect();
+
+        // The forward pass.
+        let targets = self.targets;
+        to_targets.push(image_barrier(
+            &targets.resolved,
+            vk::ImageLayout::UNDEFINED,
+            COLOR_TARGET,
+            NOTHING,
+            COLOR_WRITE,
+        ));
+        to_targets.push(image_barrier(&targets.depth, vk::ImageLayout::UNDEFINED, DEPTH_TARGET, NOTHING, DEPTH_TESTS));
+        if let Some(image) = &targets.multisampled {
+            to_targets.push(image_barrier(image, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE));
+        }
+        barriers(device, cmd, &to_targets);
+        let pass = targets.pass_targets();
+        forward::begin(device, cmd, &pass, self.background);
+        draw_objects(device, cmd, self.layout, self.forward, self.camera, &pass, self.placed, self.meshes, (0, 0));
+        // SAFETY: as above.
+        unsafe { device.raw.cmd_end_rendering(cmd) };
+
+        // Read back the resolved image.
+        barriers(
+            device,
+            cmd,
+            &[image_barrier(
+                &targets.resolved,
+                COLOR_TARGET,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                COLOR_WRITE,
+                COPY_READ,
+            )],
+        );
+        let region = whole_image_copy(pass.width, pass.height);
+        // SAFETY: as above.
+        unsafe {
+            device.raw.cmd_copy_image_to_buffer(
+                cmd,
+                targets.resolved.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                targets.readback.raw,
+                &[region],
+            );
+        }
+        targets.readback.record_host_read_barrier(cmd, vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
+    }
+
+    /// Draws every face of every shadow cube, one light at a time, and returns the barrier that makes the
+    /// cubes readable by the forward pass (to be recorded with the forward pass's own).
+    fn record_shadow_cubes(&self, cmd: vk::CommandBuffer, shadow: &ShadowDrawing) -> vk::ImageMemoryBarrier2<'static> {
+        let device = self.device;
+        let cubes = self.cubes;
+        if shadow.casters.is_empty() {
+            // The unused 1-texel cube only has to be in the layout the set names.
+            return image_barrier(&cubes.maps, vk::ImageLayout::UNDEFINED, READ_ONLY, NOTHING, SAMPLED);
+        }
+        barriers(
+            device,
+            cmd,
+            &[image_barrier(&cubes.maps, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE)],
+        );
+        let size = cubes.depth.desc.width;
+        let faces = shadow.casters.iter().flat_map(|&light| (0..6u32).map(move |face| (light as u32, face)));
+        for ((face_view, light_face), &view) in cubes.face_views.iter().zip(faces).zip(shadow.faces) {
+            // The depth image is cleared for each face: the previous face's tests must be over first.
+            barriers(
+                device,
+                cmd,
+                &[image_barrier(&cubes.depth, vk::ImageLayout::UNDEFINED, DEPTH_TARGET, DEPTH_TESTS, DEPTH_TESTS)],
+            );
+            let targets =
+                PassTargets { color: face_view.raw, resolve: None, depth: cubes.depth.view, width: size, height: size };
+            shadow::begin(device, cmd, &targets);
+            draw_objects(
+                device,
+                cmd,
+                self.layout,
+                shadow.pipelines,
+                view,
+                &targets,
+                self.placed,
+                self.meshes,
+                light_face,
+            );
+            // SAFETY: the command buffer is recording; every handle outlives the submission.
+            unsafe { device.raw.cmd_end_rendering(cmd) };
+        }
+        image_barrier(&cubes.maps, COLOR_TARGET, READ_ONLY, COLOR_WRITE, SAMPLED)
     }
 }
 
@@ -488,13 +532,4 @@ fn scene_layout(device: &Arc<Device>) -> Result<Arc<PipelineLayout>> {
     ];
     let push = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: 12 }];
     device.create_pipeline_layout(&[&bindings], &push, "scene layout")
-}
-
-/// `items`, or one default element when there are none: storage buffers may not be empty.
-fn non_empty<T: Copy + Default>(items: &[T]) -> std::borrow::Cow<'_, [T]> {
-    if items.is_empty() {
-        std::borrow::Cow::Owned(vec![T::default()])
-    } else {
-        std::borrow::Cow::Borrowed(items)
-    }
 }

@@ -5,10 +5,14 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use ash::vk;
+use glam::{Mat4, Vec3};
 
+use super::forward::DEPTH_FORMAT;
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, PlacedMesh, Vertex};
-use crate::vulkan::{layout_transition, Access, Buffer, Device, Image};
+use crate::vulkan::{
+    layout_transition, Access, Buffer, Device, GraphicsPipelineDesc, Image, Pipeline, PipelineLayout, ShaderCompiler,
+};
 
 /// The vertex buffer layout: a homogeneous position and a normal.
 pub fn vertex_input() -> ([vk::VertexInputBindingDescription; 1], [vk::VertexInputAttributeDescription; 2]) {
@@ -34,6 +38,53 @@ pub fn vertex_input() -> ([vk::VertexInputBindingDescription; 1], [vk::VertexInp
     (bindings, attributes)
 }
 
+/// A pass's pipeline from compiled SPIR-V: the vertex layout of [`vertex_input`], one colour target of
+/// `color_format` with `samples`, the fragment shader's specialization constants, and reverse-Z depth (nearer is greater; equal passes, so that the plane's horizon, at
+/// depth 0, is drawn).
+///
+/// # Errors
+/// `Error::Vulkan` if the driver refuses a module or the pipeline.
+pub fn build_pipeline(
+    device: &Arc<Device>,
+    layout: &Arc<PipelineLayout>,
+    (vertex, fragment): (&CompiledShader, &CompiledShader),
+    (color_format, samples): (vk::Format, vk::SampleCountFlags),
+    fragment_constants: &[u32],
+) -> Result<Pipeline> {
+    let vertex_module = device.create_shader_module(&vertex.spirv, vertex.name)?;
+    let fragment_module = device.create_shader_module(&fragment.spirv, fragment.name)?;
+    let (bindings, attributes) = vertex_input();
+    let desc = GraphicsPipelineDesc {
+        vertex: &vertex_module,
+        fragment: &fragment_module,
+        vertex_bindings: &bindings,
+        vertex_attributes: &attributes,
+        color_formats: &[color_format],
+        depth_format: DEPTH_FORMAT,
+        depth_compare: vk::CompareOp::GREATER_OR_EQUAL,
+        samples,
+        layout,
+        fragment_constants,
+    };
+    device.create_graphics_pipeline(&desc, &format!("{} x{} {fragment_constants:?}", fragment.name, samples.as_raw()))
+}
+
+/// One shader's SPIR-V and its file's name.
+pub struct CompiledShader {
+    pub name: &'static str,
+    pub spirv: Vec<u32>,
+}
+
+impl CompiledShader {
+    /// Compiles `name` of shaders/.
+    ///
+    /// # Errors
+    /// `Error::Shader` naming the file and line.
+    pub fn new(compiler: &ShaderCompiler, name: &'static str) -> Result<Self> {
+        Ok(Self { name, spirv: compiler.compile(name)? })
+    }
+}
+
 /// The attachments of one pass.
 pub struct PassTargets {
     pub color: vk::ImageView,
@@ -51,47 +102,124 @@ impl PassTargets {
     }
 }
 
-/// A mesh's vertex and index buffers on the device.
-pub struct GpuMesh {
+/// A mesh's vertex and index buffers on the device, and what decides whether its back faces are culled.
+struct GpuMesh {
     vertices: Buffer,
     indices: Buffer,
     index_count: u32,
+    /// See [`Mesh::is_closed_outward`].
+    closed_outward: bool,
+    /// The mesh's bounding box, in its own space.
+    bounds: (Vec3, Vec3),
 }
 
-/// Meshes are shared between objects (every sphere uses the one unit sphere): key them by address.
+impl GpuMesh {
+    /// Whether the back faces of this mesh placed by `model` can be culled as seen from `viewpoint`: the
+    /// mesh is closed and wound outwards, the placement keeps the winding, and the viewpoint is outside its
+    /// bounding box, hence outside the mesh, so that every back face lies behind a front face. Back faces
+    /// cost a CPU rasterizer as much as front faces: culling them took the bunny's frame from 64 to 37 ms.
+    fn hides_back_faces(&self, model: Mat4, viewpoint: Vec3) -> bool {
+        let local = model.inverse().transform_point3(viewpoint);
+        let (min, max) = self.bounds;
+        let inside = local.cmpge(min).all() && local.cmple(max).all();
+        self.closed_outward && model.determinant() > 0.0 && !inside
+    }
+}
+
+/// Kept per scene geometry: each distinct mesh uploaded once and kept while renders draw it. Each entry
+/// holds its mesh, so the address that keys it cannot be reused by another mesh while it is kept.
+#[derive(Default)]
+pub struct MeshUploads {
+    meshes: HashMap<usize, (Arc<Mesh>, GpuMesh)>,
+}
+
+/// Meshes are shared between objects (every sphere uses the one bounding sphere): key them by address.
 fn mesh_key(mesh: &Arc<Mesh>) -> usize {
     Arc::as_ptr(mesh) as usize
 }
 
-/// Uploads each distinct mesh once.
-///
-/// # Errors
-/// `Error::Vulkan` or `Error::Allocation`.
-pub fn upload_meshes(device: &Arc<Device>, placed: &[PlacedMesh]) -> Result<HashMap<usize, GpuMesh>> {
-    let mut meshes = HashMap::new();
-    for p in placed {
-        if meshes.contains_key(&mesh_key(&p.mesh)) {
-            continue;
+impl MeshUploads {
+    /// Uploads the meshes of `placed` not yet on the device and lets go of those no longer placed.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` or `Error::Allocation`.
+    pub fn update(&mut self, device: &Arc<Device>, placed: &[PlacedMesh]) -> Result<()> {
+        self.meshes.retain(|key, _| placed.iter().any(|p| mesh_key(&p.mesh) == *key));
+        for p in placed {
+            if self.meshes.contains_key(&mesh_key(&p.mesh)) {
+                continue;
+            }
+            let mesh = &p.mesh;
+            let vertices =
+                device.create_buffer_with_data(&mesh.vertices, vk::BufferUsageFlags::VERTEX_BUFFER, "vertices")?;
+            let indices =
+                device.create_buffer_with_data(&mesh.indices, vk::BufferUsageFlags::INDEX_BUFFER, "indices")?;
+            let index_count =
+                u32::try_from(mesh.indices.len()).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
+            let gpu_mesh = GpuMesh {
+                vertices,
+                indices,
+                index_count,
+                closed_outward: mesh.is_closed_outward(),
+                bounds: mesh.bounds(),
+            };
+            self.meshes.insert(mesh_key(mesh), (mesh.clone(), gpu_mesh));
         }
-        let vertices =
-            device.create_buffer_with_data(&p.mesh.vertices, vk::BufferUsageFlags::VERTEX_BUFFER, "vertices")?;
-        let indices = device.create_buffer_with_data(&p.mesh.indices, vk::BufferUsageFlags::INDEX_BUFFER, "indices")?;
-        let index_count =
-            u32::try_from(p.mesh.indices.len()).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
-        meshes.insert(mesh_key(&p.mesh), GpuMesh { vertices, indices, index_count });
+        Ok(())
     }
-    Ok(meshes)
+
+    fn get(&self, mesh: &Arc<Mesh>) -> &GpuMesh {
+        &self.meshes[&mesh_key(mesh)].1
+    }
 }
 
-/// Sets the viewport and scissor to the target and draws every object, telling the shaders which object
-/// each draw is and, for the shadow pass, which light and cube face (`shadow_face`).
+/// Where a pass looks from: its viewpoint (the camera, or a light) and view-projection.
+#[derive(Clone, Copy)]
+pub struct PassView {
+    pub viewpoint: Vec3,
+    pub view_projection: Mat4,
+}
+
+impl PassView {
+    /// The winding, in this pass's framebuffer, of a triangle that faces the viewpoint: the front face that
+    /// makes back faces those turned away from it. Found by projecting such a triangle and taking the sign
+    /// of its area as Vulkan's rasterizer does (a = -1/2 sum of x_i y_i+1 - x_i+1 y_i, positive for
+    /// counter-clockwise), so that a projection that flips y (the camera's) or not (the shadow cubes') gets
+    /// the right one.
+    pub fn front_face(&self) -> vk::FrontFace {
+        // A point straight ahead: the middle of the image at depth 0.5 (twice the near distance).
+        let ahead = self.view_projection.inverse().project_point3(Vec3::new(0.0, 0.0, 0.5));
+        let towards_viewer = (self.viewpoint - ahead).normalize();
+        let (t1, t2) = towards_viewer.any_orthonormal_pair();
+        let size = 0.1 * (self.viewpoint - ahead).length();
+        // Counter-clockwise seen from the viewpoint: (b - a) x (c - a) points at it.
+        let (a, mut b, mut c) = (ahead, ahead + size * t1, ahead + size * t2);
+        if (b - a).cross(c - a).dot(towards_viewer) < 0.0 {
+            std::mem::swap(&mut b, &mut c);
+        }
+        let [a, b, c] = [a, b, c].map(|p| self.view_projection.project_point3(p));
+        let area = -0.5 * ((a.x * b.y - b.x * a.y) + (b.x * c.y - c.x * b.y) + (c.x * a.y - a.x * c.y));
+        if area > 0.0 {
+            vk::FrontFace::COUNTER_CLOCKWISE
+        } else {
+            vk::FrontFace::CLOCKWISE
+        }
+    }
+}
+
+/// Sets the viewport and scissor to the target and draws every object with its pipeline (`pipelines[i]` for
+/// object i), culling the back faces of closed meshes the viewpoint is outside of, and telling the shaders
+/// which object each draw is and, for the shadow pass, which light and cube face (`shadow_face`).
+#[allow(clippy::too_many_arguments)] // one pass's whole state, recorded in one go
 pub fn draw_objects(
     device: &Device,
     cmd: vk::CommandBuffer,
     layout: vk::PipelineLayout,
+    pipelines: &[vk::Pipeline],
+    view: PassView,
     targets: &PassTargets,
     placed: &[PlacedMesh],
-    meshes: &HashMap<usize, GpuMesh>,
+    meshes: &MeshUploads,
     shadow_face: (u32, u32),
 ) {
     let viewport = vk::Viewport {
@@ -106,8 +234,20 @@ pub fn draw_objects(
     unsafe {
         device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
         device.raw.cmd_set_scissor(cmd, 0, &[targets.area()]);
-        for (index, p) in placed.iter().enumerate() {
-            let mesh = &meshes[&mesh_key(&p.mesh)];
+        device.raw.cmd_set_front_face(cmd, view.front_face());
+        let mut bound = None;
+        for (index, (p, &pipeline)) in placed.iter().zip(pipelines).enumerate() {
+            if bound != Some(pipeline) {
+                device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                bound = Some(pipeline);
+            }
+            let mesh = meshes.get(&p.mesh);
+            let cull = if mesh.hides_back_faces(p.model, view.viewpoint) {
+                vk::CullModeFlags::BACK
+            } else {
+                vk::CullModeFlags::NONE
+            };
+            device.raw.cmd_set_cull_mode(cmd, cull);
             device.raw.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.raw], &[0]);
             device.raw.cmd_bind_index_buffer(cmd, mesh.indices.raw, 0, vk::IndexType::UINT32);
             let push = [index as u32, shadow_face.0, shadow_face.1];

@@ -12,41 +12,153 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec3};
 
-use super::passes::{begin_rendering, vertex_input, PassTargets};
+use super::forward::DEPTH_FORMAT;
+use super::passes::{begin_rendering, build_pipeline, CompiledShader, PassTargets};
 use crate::error::Result;
-use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderCompiler};
+use crate::mesh::PlacedMesh;
+use crate::scene::Scene;
+use crate::vulkan::{Device, Image, ImageDesc, ImageView, Pipeline, PipelineLayout, ShaderCompiler};
 
 /// Distance from the light, in 32-bit float.
 pub const DISTANCE_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 /// What a texel that sees nothing holds (the attachment's clear value; shadow.frag's FAR_AWAY).
 pub const FAR_AWAY: f32 = 3.0e38;
 
-/// The shadow pass's pipeline, made once per renderer.
+/// The shadow pass's pipelines, made once per renderer.
 pub struct ShadowPass {
-    pub pipeline: Pipeline,
+    meshes: Pipeline,
+    spheres: Pipeline,
 }
 
 impl ShadowPass {
-    /// Compiles the shadow shaders and builds the pipeline.
+    /// Compiles the shadow shaders and builds the pipelines.
     ///
     /// # Errors
     /// `Error::Shader` or `Error::Vulkan`.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler, layout: &Arc<PipelineLayout>) -> Result<Self> {
-        let vertex = device.create_shader_module(&compiler.compile("shadow.vert")?, "shadow.vert")?;
-        let fragment = device.create_shader_module(&compiler.compile("shadow.frag")?, "shadow.frag")?;
-        let (bindings, attributes) = vertex_input();
-        let desc = GraphicsPipelineDesc {
-            vertex: &vertex,
-            fragment: &fragment,
-            vertex_bindings: &bindings,
-            vertex_attributes: &attributes,
-            color_formats: &[DISTANCE_FORMAT],
-            depth_format: super::forward::DEPTH_FORMAT,
-            depth_compare: vk::CompareOp::GREATER_OR_EQUAL,
-            samples: vk::SampleCountFlags::TYPE_1,
-            layout,
+        let vertex = CompiledShader::new(compiler, "shadow.vert")?;
+        let build = |fragment| {
+            let fragment = CompiledShader::new(compiler, fragment)?;
+            build_pipeline(device, layout, (&vertex, &fragment), (DISTANCE_FORMAT, vk::SampleCountFlags::TYPE_1), &[])
         };
-        Ok(Self { pipeline: device.create_graphics_pipeline(&desc, "shadow")? })
+        Ok(Self { meshes: build("shadow.frag")?, spheres: build("shadow_sphere.frag")? })
+    }
+
+    /// The pipeline that draws `placed`.
+    pub fn pipeline(&self, placed: &PlacedMesh) -> vk::Pipeline {
+        if placed.exact_sphere {
+            self.spheres.raw
+        } else {
+            self.meshes.raw
+        }
+    }
+}
+
+/// Kept per lighting: the shadow cubes (one per light that casts shadows, a single unused 1-texel cube when
+/// none does) and the depth image every face is drawn with in turn. They are drawn again only when what
+/// they show changes (see [`ShadowKey`]), so that a sweep over a material or a camera orbiting in the
+/// preview reuse them.
+pub struct ShadowCubes {
+    pub maps: Image,
+    pub depth: Image,
+    /// One view per face of each cube, in the order the faces are drawn.
+    pub face_views: Vec<ImageView>,
+    /// What the cubes hold, once drawn and ready to be read; `None` until then.
+    drawn: Option<ShadowKey>,
+}
+
+/// What shadow cubes show: the map size, the positions of the lights that cast shadows (in cube order),
+/// and every object's mesh (by identity), placement and kind.
+pub struct ShadowKey {
+    size: u32,
+    lights: Vec<Vec3>,
+    geometry: Vec<PlacedMesh>,
+}
+
+impl PartialEq for ShadowKey {
+    fn eq(&self, other: &Self) -> bool {
+        let same_object = |(a, b): (&PlacedMesh, &PlacedMesh)| {
+            Arc::ptr_eq(&a.mesh, &b.mesh) && a.model == b.model && a.exact_sphere == b.exact_sphere
+        };
+        self.size == other.size
+            && self.lights == other.lights
+            && self.geometry.len() == other.geometry.len()
+            && self.geometry.iter().zip(&other.geometry).all(same_object)
+    }
+}
+
+impl ShadowKey {
+    /// What the cubes of `scene` show, `casters` being its lights that cast shadows.
+    pub fn new(scene: &Scene, placed: &[PlacedMesh], casters: &[usize]) -> Self {
+        Self {
+            size: scene.image.shadow_map_size,
+            lights: casters.iter().map(|&i| scene.lights[i].position).collect(),
+            // The geometry only matters to the cubes when there are any to draw.
+            geometry: if casters.is_empty() { Vec::new() } else { placed.to_vec() },
+        }
+    }
+
+    /// The size of the cubes: the scene's, or 1 when no light casts shadows.
+    fn cube_size(&self) -> u32 {
+        if self.lights.is_empty() {
+            1
+        } else {
+            self.size
+        }
+    }
+}
+
+impl ShadowCubes {
+    /// Cubes for `key`: `kept` when they are of its size and count (drawn again if they show something
+    /// else), new ones otherwise.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` or `Error::Allocation`.
+    pub fn for_key(device: &Arc<Device>, kept: Option<Self>, key: &ShadowKey) -> Result<Self> {
+        let size = key.cube_size();
+        let cubes = key.lights.len() as u32;
+        if let Some(kept) = kept {
+            if kept.depth.desc.width == size && kept.maps.desc.layers == 6 * cubes.max(1) {
+                return Ok(kept);
+            }
+        }
+        let maps = device.create_image(
+            ImageDesc {
+                width: size,
+                height: size,
+                layers: 6 * cubes.max(1),
+                cube: true,
+                format: DISTANCE_FORMAT,
+                samples: vk::SampleCountFlags::TYPE_1,
+                usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+                aspect: vk::ImageAspectFlags::COLOR,
+            },
+            "shadow cubes",
+        )?;
+        let depth = device.create_image(
+            ImageDesc::plain(
+                size,
+                size,
+                DEPTH_FORMAT,
+                vk::SampleCountFlags::TYPE_1,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageAspectFlags::DEPTH,
+            ),
+            "shadow depth",
+        )?;
+        let face_views = (0..6 * cubes).map(|layer| maps.layer_view(layer, 1)).collect::<Result<Vec<_>>>()?;
+        Ok(Self { maps, depth, face_views, drawn: None })
+    }
+
+    /// Whether the cubes already show `key`.
+    pub fn show(&self, key: &ShadowKey) -> bool {
+        self.drawn.as_ref() == Some(key)
+    }
+
+    /// Records that the cubes were drawn for `key` (`Some`, once the drawing finished) or that what they hold
+    /// is unknown (`None`: before drawing, or after the shaders changed).
+    pub fn set_drawn(&mut self, key: Option<ShadowKey>) {
+        self.drawn = key;
     }
 }
 

@@ -93,6 +93,16 @@ impl Buffer {
         Ok(())
     }
 
+    /// The contents of a host-visible buffer, to write in place.
+    ///
+    /// # Errors
+    /// `Error::Vulkan(ERROR_MEMORY_MAP_FAILED)` if the buffer is not host-visible.
+    pub fn bytes_mut(&mut self) -> Result<&mut [u8]> {
+        let size = self.desc.size as usize;
+        let mapped = self.allocation.mapped_slice_mut().ok_or(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED))?;
+        Ok(&mut mapped[..size])
+    }
+
     /// The contents of a host-visible buffer.
     ///
     /// # Errors

@@ -52,6 +52,12 @@ impl DescriptorPool {
         let info = vk::DescriptorSetAllocateInfo::default().descriptor_pool(self.raw).set_layouts(&layouts);
         // SAFETY: the pool and layout are alive.
         let set = unsafe { self.device.raw.allocate_descriptor_sets(&info)? }[0];
+        self.write_set(set, descriptors);
+        Ok(set)
+    }
+
+    /// Points binding i of `set`, a set of this pool that no submitted work still uses, at `descriptors[i]`.
+    pub fn write_set(&self, set: vk::DescriptorSet, descriptors: &[Descriptor]) {
         let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = descriptors
             .iter()
             .map(|d| match d {
@@ -83,9 +89,8 @@ impl DescriptorPool {
                 }
             })
             .collect();
-        // SAFETY: the set and everything it points at are alive.
+        // SAFETY: the set and everything it points at are alive, and no pending work uses the set.
         unsafe { self.device.raw.update_descriptor_sets(&writes, &[]) };
-        Ok(set)
     }
 }
 

@@ -32,6 +32,8 @@ pub struct GraphicsPipelineDesc<'a> {
     pub depth_compare: vk::CompareOp,
     pub samples: vk::SampleCountFlags,
     pub layout: &'a Arc<PipelineLayout>,
+    /// The fragment shader's specialization constants: entry i is the value of `constant_id = i`.
+    pub fragment_constants: &'a [u32],
 }
 
 impl Device {
@@ -62,11 +64,17 @@ impl Device {
         Ok(Arc::new(layout))
     }
 
-    /// Creates a graphics pipeline for dynamic rendering, triangle lists, no culling, opaque output.
+    /// Creates a graphics pipeline for dynamic rendering, triangle lists, opaque output; viewport, scissor,
+    /// cull mode and front face are set while recording.
     ///
     /// # Errors
     /// `Error::Vulkan` if the driver refuses the pipeline.
     pub fn create_graphics_pipeline(self: &Arc<Self>, desc: &GraphicsPipelineDesc, name: &str) -> Result<Pipeline> {
+        let entries: Vec<vk::SpecializationMapEntry> = (0..desc.fragment_constants.len() as u32)
+            .map(|id| vk::SpecializationMapEntry { constant_id: id, offset: 4 * id, size: 4 })
+            .collect();
+        let constant_bytes: Vec<u8> = desc.fragment_constants.iter().flat_map(|v| v.to_ne_bytes()).collect();
+        let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&constant_bytes);
         let stages = [
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
@@ -75,7 +83,8 @@ impl Device {
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::FRAGMENT)
                 .module(desc.fragment.raw)
-                .name(c"main"),
+                .name(c"main")
+                .specialization_info(&specialization),
         ];
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(desc.vertex_bindings)
@@ -83,12 +92,8 @@ impl Device {
         let input_assembly =
             vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
         let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
-        // No culling: planes are seen from both sides, and closed meshes lose nothing to the depth test.
-        let rasterization = vk::PipelineRasterizationStateCreateInfo::default()
-            .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(vk::CullModeFlags::NONE)
-            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-            .line_width(1.0);
+        let rasterization =
+            vk::PipelineRasterizationStateCreateInfo::default().polygon_mode(vk::PolygonMode::FILL).line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(true)
@@ -100,7 +105,12 @@ impl Device {
             .map(|_| vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA))
             .collect();
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
-        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic_states = [
+            vk::DynamicState::VIEWPORT,
+            vk::DynamicState::SCISSOR,
+            vk::DynamicState::CULL_MODE,
+            vk::DynamicState::FRONT_FACE,
+        ];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(desc.color_formats)
