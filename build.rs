@@ -1,4 +1,5 @@
-//! Embeds the GLSL sources of shaders/ in the binary, and links shaderc against the system's static glslang and
+//! Embeds the GLSL sources of shaders/ in the binary with their SPIR-V, compiled here by glslc, and links
+//! shaderc (the run-time compiler of `--shaders` and hot reloading) against the system's static glslang and
 //! SPIRV-Tools archives.
 //!
 //! Debian's `libshaderc.so` does not declare its glslang and spvtools dependencies, so the shaderc crate's
@@ -25,6 +26,7 @@ const ARCHIVES: [(&str, bool); 8] = [
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     embed_shaders();
+    compile_shaders();
     link_glslang_and_spirv_tools();
 }
 
@@ -108,6 +110,44 @@ fn embed_shaders() {
     table.push_str("]\n");
     let out = Path::new(&std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("shaders.rs");
     std::fs::write(out, table).expect("OUT_DIR is writable");
+}
+
+/// Writes `$OUT_DIR/spirv.rs`: a table of every entry file under shaders/ (.vert, .frag, .comp) with its
+/// SPIR-V, so that a process starts without compiling GLSL (the first compile of each stage builds glslang's
+/// built-in tables: 80 ms of a 250 ms `vk-render render` on lavapipe). glslc is shaderc's own command, of
+/// the same Debian source as the library the run-time compiler links; it runs in shaders/ with the run-time
+/// compiler's options (ShaderCompiler::compile: Vulkan 1.3, SPIR-V 1.5, no debug info; includes beside the
+/// including file, then from shaders/), and a test checks that both give the same words.
+fn compile_shaders() {
+    println!("cargo:rerun-if-env-changed=GLSLC");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("spirv");
+    let mut files = Vec::new();
+    collect(&root, &mut files);
+    files.sort();
+    let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".into());
+    let mut table = String::from("&[\n");
+    for file in &files {
+        let relative = file.strip_prefix(&root).expect("under shaders/").to_string_lossy().replace('\\', "/");
+        if !["vert", "frag", "comp"].iter().any(|stage| relative.ends_with(&format!(".{stage}"))) {
+            continue;
+        }
+        let spirv = out.join(format!("{relative}.spv"));
+        std::fs::create_dir_all(spirv.parent().expect("a file has a folder")).expect("OUT_DIR is writable");
+        let status = Command::new(&glslc)
+            .current_dir(&root)
+            .args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", ".", "-o"])
+            .arg(&spirv)
+            .arg(&relative)
+            .status()
+            .unwrap_or_else(|e| {
+                panic!("cannot run {glslc} to compile shaders/{relative} ({e}): install the Debian package glslc (`make setup`)")
+            });
+        assert!(status.success(), "glslc could not compile shaders/{relative} (its errors are above)");
+        table.push_str(&format!("    ({relative:?}, include_bytes!({:?})),\n", spirv.display().to_string()));
+    }
+    table.push_str("]\n");
+    std::fs::write(out.with_extension("rs"), table).expect("OUT_DIR is writable");
 }
 
 fn collect(dir: &Path, files: &mut Vec<PathBuf>) {

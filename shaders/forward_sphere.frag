@@ -2,8 +2,10 @@
 
 // The forward pass of spheres. The bounding mesh's fragments cover the samples whose camera rays meet the
 // exact sphere (gl_SampleMask) and shade the point where the pixel centre's ray meets it, as the ray tracer
-// does; at the silhouette, where the centre's ray misses, the point of the first covered sample's ray. The
-// depth is that point's, so that spheres and other objects occlude each other where the exact surfaces do.
+// does; at the silhouette, where the centre's ray misses, the point of the pixel's first sample whose ray
+// meets it: every fragment of a pixel (the mesh's triangles may share it) shades the same point, so that
+// the image does not depend on the tessellation. The depth is that point's, so that spheres and other
+// objects occlude each other where the exact surfaces do.
 
 #include "common/shading.glsl"
 #include "common/sphere.glsl"
@@ -35,18 +37,18 @@ void main() {
     vec3 first_ray = vec3(0.0);
     int first_location = int(frame.samples) - 1;  // the table's entries for a count n start at n - 1
     vec2 corner = floor(gl_FragCoord.xy);
+    bool any_hit = false;
     for (int i = 0; i < int(frame.samples); ++i) {
-        if ((gl_SampleMaskIn[0] & (1 << i)) == 0) {
-            continue;  // a sample of another triangle of the mesh
-        }
         vec3 ray = camera_ray(corner + SAMPLE_LOCATIONS[first_location + i]);
         float t;
         if (ray_sphere(eye, ray, center, radius, t)) {
-            if (covered == 0) {
+            if (!any_hit) {
                 first_t = t;
                 first_ray = ray;
+                any_hit = true;
             }
-            covered |= 1 << i;
+            // Samples outside this triangle's are another triangle's fragment's to cover.
+            covered |= gl_SampleMaskIn[0] & (1 << i);
         }
     }
     if (covered == 0) {

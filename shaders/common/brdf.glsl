@@ -24,6 +24,8 @@ const uint BRDF_COOK_TORRANCE = 4u;
 const uint BRDF_FROM_MATERIAL = 0xFFFFFFFFu;
 
 layout(constant_id = 0) const uint BRDF_SPECIALIZED = BRDF_FROM_MATERIAL;
+// The same for the diffuse lobe under Cook-Torrance (DIFFUSE_* of cook_torrance.glsl).
+layout(constant_id = 3) const uint DIFFUSE_SPECIALIZED = BRDF_FROM_MATERIAL;
 
 // f_r(wi, wo) at a surface with unit normal n, without the cosine; wi and wo point away from the surface.
 // Mirrors Brdf::eval in src/brdf/mod.rs. Reflection only: zero when wi or wo is at or below the horizon;
@@ -42,7 +44,8 @@ vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {
         case BRDF_BLINN_PHONG:
             return blinn_phong(n, wi, wo, m.kd.rgb, m.ks.rgb, m.shininess);
         case BRDF_COOK_TORRANCE:
-            return cook_torrance(n, wi, wo, m.kd.rgb, m.f0.rgb, m.roughness, m.metalness, m.diffuse);
+            return cook_torrance(n, wi, wo, m.kd.rgb, m.f0.rgb, m.roughness, m.metalness,
+                                 DIFFUSE_SPECIALIZED == BRDF_FROM_MATERIAL ? m.diffuse : DIFFUSE_SPECIALIZED);
         default:
             return vec3(0.0);
     }

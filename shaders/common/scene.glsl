@@ -25,7 +25,6 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     // the CPU reference, through any sample position.
     mat4 pixel_rays;
     vec4 camera_position;
-    uint light_count;
     float shadow_texel_angle;  // 2 / shadow_map_size: a texel's angle at the centre of a cube face
     uint samples;              // MSAA samples per pixel, at Vulkan's standard sample locations
 } frame;

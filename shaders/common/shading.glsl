@@ -17,6 +17,10 @@ const float MAX_BIAS_SLOPE = 20.0;
 // lookups, masked off, behind a branch on a uniform value too (they doubled Figure 1's shading time).
 layout(constant_id = 1) const uint SHADOW_FILTER = 0u;
 
+// The number of lights, fixed when the pipeline is built: a loop of known length is unrolled (the bunny's
+// two lights shaded about 10% faster on lavapipe).
+layout(constant_id = 2) const uint LIGHT_COUNT = 0u;
+
 // Whether the light sees p (1) or not (0), or the fraction of PCF lookups that do.
 //
 // The cube holds, per texel, the distance from the light to the nearest surface along the texel's centre
@@ -67,7 +71,7 @@ vec3 outgoing_radiance(ObjectData object, vec3 p, vec3 n) {
         n = normalize(n + (MIN_NOV - dot(n, wo)) * wo);
     }
     vec3 radiance = vec3(0.0);
-    for (uint i = 0u; i < frame.light_count; ++i) {
+    for (uint i = 0u; i < LIGHT_COUNT; ++i) {
         vec3 to_light = lights[i].position.xyz - p;
         float d2 = dot(to_light, to_light);
         vec3 wi = to_light * inversesqrt(d2);

@@ -6,11 +6,11 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_types::brdf_id;
+use super::gpu_types::GpuMaterial;
 use super::passes::{begin_rendering, build_pipeline, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
-use crate::scene::{ImageSettings, Object, ShadowFilter};
+use crate::scene::{Object, Scene, ShadowFilter};
 use crate::vulkan::{Device, Pipeline, PipelineLayout, ShaderCompiler};
 
 /// The HDR colour format: 32-bit float, so that the course's truncation to 8 bits sees exact values.
@@ -27,14 +27,14 @@ pub struct ForwardPass {
 }
 
 /// What a forward pipeline is built for: the sample count, meshes or exact spheres, and the values of the
-/// fragment shader's specialization constants: the BRDF (brdf.glsl's `BRDF_SPECIALIZED`) and the shadow
-/// filter (shading.glsl's `SHADOW_FILTER`).
+/// fragment shader's specialization constants, in the order of their `constant_id`s: the BRDF (brdf.glsl's
+/// `BRDF_SPECIALIZED`), the shadow filter and the number of lights (shading.glsl's `SHADOW_FILTER` and
+/// `LIGHT_COUNT`), and Cook-Torrance's diffuse lobe (brdf.glsl's `DIFFUSE_SPECIALIZED`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct PipelineKey {
     samples: vk::SampleCountFlags,
     exact_sphere: bool,
-    brdf: u32,
-    shadow_filter: u32,
+    constants: [u32; 4],
 }
 
 impl ForwardPass {
@@ -55,19 +55,20 @@ impl ForwardPass {
         })
     }
 
-    /// The pipeline that draws `placed` with `object`'s BRDF into `image`'s targets.
+    /// The pipeline that draws `placed` with `object`'s BRDF into the targets of `scene`'s image.
     ///
     /// # Errors
     /// `Error::Vulkan` if the driver refuses the pipeline.
-    pub fn pipeline(&mut self, image: &ImageSettings, object: &Object, placed: &PlacedMesh) -> Result<vk::Pipeline> {
+    pub fn pipeline(&mut self, scene: &Scene, object: &Object, placed: &PlacedMesh) -> Result<vk::Pipeline> {
+        let material = GpuMaterial::from(&object.brdf);
+        let shadow_filter = match scene.image.shadow_filter {
+            ShadowFilter::Hard => 0,
+            ShadowFilter::Pcf => 1,
+        };
         let key = PipelineKey {
-            samples: vk::SampleCountFlags::from_raw(image.samples),
+            samples: vk::SampleCountFlags::from_raw(scene.image.samples),
             exact_sphere: placed.exact_sphere,
-            brdf: brdf_id(&object.brdf),
-            shadow_filter: match image.shadow_filter {
-                ShadowFilter::Hard => 0,
-                ShadowFilter::Pcf => 1,
-            },
+            constants: [material.brdf, shadow_filter, scene.lights.len() as u32, material.diffuse],
         };
         if let Some(pipeline) = self.pipelines.get(&key) {
             return Ok(pipeline.raw);
@@ -78,7 +79,7 @@ impl ForwardPass {
             &self.layout,
             (vertex, fragment),
             (COLOR_FORMAT, key.samples),
-            &[key.brdf, key.shadow_filter],
+            &key.constants,
         )?;
         log::debug!("built the forward pipeline for {key:?}");
         let raw = pipeline.raw;

@@ -14,12 +14,11 @@ pub struct GpuFrame {
     /// The camera ray through framebuffer position (x, y) is `pixel_rays * (x, y, 1, 0)`: see [`PixelRays`].
     pub pixel_rays: [[f32; 4]; 4],
     pub camera_position: [f32; 4],
-    pub light_count: u32,
     /// The angle a shadow-map texel subtends at the centre of a cube face: 2 / size.
     pub shadow_texel_angle: f32,
     /// MSAA samples per pixel.
     pub samples: u32,
-    pub pad: u32,
+    pub pad: [u32; 2],
 }
 
 /// `PointLight` (std430).
@@ -107,7 +106,7 @@ impl GpuFrame {
     /// Reverse-Z with an infinite far plane: depth is near / distance, 1 at the near plane and 0 at infinity,
     /// so the plane's vertices at infinity land exactly on the far end and float depth keeps its precision.
     /// glam's Vulkan projection also flips y, Vulkan's clip space having y pointing down the image.
-    pub fn new(camera: &Camera, image: &ImageSettings, light_count: usize, near: f32) -> Self {
+    pub fn new(camera: &Camera, image: &ImageSettings, near: f32) -> Self {
         let aspect = image.width as f32 / image.height as f32;
         let projection = vulkan::perspective_infinite_reverse(camera.fov_y.to_radians(), aspect, near);
         let rays = PixelRays::new(camera, image.width, image.height);
@@ -116,10 +115,9 @@ impl GpuFrame {
             pixel_rays: [rays.per_x.extend(0.0), rays.per_y.extend(0.0), rays.corner.extend(0.0), glam::Vec4::ZERO]
                 .map(|c| c.to_array()),
             camera_position: camera.position.extend(1.0).into(),
-            light_count: light_count as u32,
             shadow_texel_angle: 2.0 / image.shadow_map_size as f32,
             samples: image.samples,
-            pad: 0,
+            pad: [0; 2],
         }
     }
 }
@@ -136,7 +134,7 @@ impl GpuPointLight {
 }
 
 /// The id of `brdf` in `shaders/common/brdf.glsl`.
-pub fn brdf_id(brdf: &Brdf) -> u32 {
+fn brdf_id(brdf: &Brdf) -> u32 {
     match brdf {
         Brdf::Lambert { .. } => BRDF_LAMBERT,
         Brdf::OrenNayar { .. } => BRDF_OREN_NAYAR,
@@ -263,7 +261,6 @@ mod tests {
                 ("view_projection", offset_of!(GpuFrame, view_projection)),
                 ("pixel_rays", offset_of!(GpuFrame, pixel_rays)),
                 ("camera_position", offset_of!(GpuFrame, camera_position)),
-                ("light_count", offset_of!(GpuFrame, light_count)),
                 ("shadow_texel_angle", offset_of!(GpuFrame, shadow_texel_angle)),
                 ("samples", offset_of!(GpuFrame, samples)),
             ],

@@ -303,7 +303,7 @@ impl Renderer {
         let shadow_views: Vec<[[f32; 4]; 4]> =
             shadow_faces.iter().map(|face| face.view_projection.to_cols_array_2d()).collect();
         let values = SceneValues {
-            frame: GpuFrame::new(&scene.camera, &scene.image, scene.lights.len(), NEAR_PLANE),
+            frame: GpuFrame::new(&scene.camera, &scene.image, NEAR_PLANE),
             lights: &lights,
             objects: &objects,
             shadow_views: &shadow_views,
@@ -328,7 +328,7 @@ impl Renderer {
             .objects
             .iter()
             .zip(placed)
-            .map(|(object, p)| self.forward.pipeline(&scene.image, object, p))
+            .map(|(object, p)| self.forward.pipeline(scene, object, p))
             .collect::<Result<Vec<_>>>()?;
         let shadow_pipelines: Vec<vk::Pipeline> = placed.iter().map(|p| self.shadow.pipeline(p)).collect();
 

@@ -1,6 +1,8 @@
 //! GLSL to SPIR-V with shaderc, and shader modules.
 //!
-//! The sources of shaders/ are embedded in the binary at build time; `#include "common/math.glsl"` is
+//! The sources of shaders/ are embedded in the binary at build time with their SPIR-V (build.rs compiles
+//! them with glslc): a compiler of those very sources hands out that SPIR-V, and compiles any others (a
+//! `--shaders` folder, hot reloading, a test's broken BRDF) with shaderc. `#include "common/math.glsl"` is
 //! resolved against the shaders/ root (or the including file's folder first).
 
 use std::collections::BTreeMap;
@@ -13,6 +15,9 @@ use crate::error::{Error, Result};
 
 /// Every file under shaders/, by path relative to it.
 const EMBEDDED: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
+
+/// The SPIR-V of every entry file of [`EMBEDDED`], compiled at build time.
+const PRECOMPILED: &[(&str, &[u8])] = include!(concat!(env!("OUT_DIR"), "/spirv.rs"));
 
 /// The GLSL sources a compiler reads: those embedded at build time, of which any may be replaced.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,11 +72,17 @@ impl ShaderSources {
     fn get(&self, path: &str) -> Option<&str> {
         self.files.get(path).map(String::as_str)
     }
+
+    /// Whether these are the sources embedded at build time, unchanged.
+    fn are_embedded(&self) -> bool {
+        self.files.len() == EMBEDDED.len() && EMBEDDED.iter().all(|(path, text)| self.get(path) == Some(*text))
+    }
 }
 
 /// Compiles GLSL entry files of shaders/ to SPIR-V.
 pub struct ShaderCompiler {
-    compiler: shaderc::Compiler,
+    /// `None` for the embedded sources, whose SPIR-V was compiled at build time.
+    compiler: Option<shaderc::Compiler>,
     sources: Arc<ShaderSources>,
 }
 
@@ -79,18 +90,35 @@ impl ShaderCompiler {
     /// A compiler reading `sources`.
     ///
     /// # Errors
-    /// `Error::Shader` if shaderc cannot start.
+    /// `Error::Shader` if shaderc cannot start (for sources other than the embedded ones).
     pub fn new(sources: ShaderSources) -> Result<Self> {
-        let compiler = shaderc::Compiler::new()
-            .map_err(|e| Error::Shader { path: "(shaderc)".into(), log: format!("shaderc could not start: {e}") })?;
+        let compiler = if sources.are_embedded() {
+            None
+        } else {
+            Some(shaderc::Compiler::new().map_err(|e| Error::Shader {
+                path: "(shaderc)".into(),
+                log: format!("shaderc could not start: {e}"),
+            })?)
+        };
         Ok(Self { compiler, sources: Arc::new(sources) })
     }
 
-    /// Compiles one entry file (its stage from the extension: .vert, .frag, .comp).
+    /// The SPIR-V of one entry file (its stage from the extension: .vert, .frag, .comp).
     ///
     /// # Errors
     /// `Error::Shader` naming the file, with shaderc's log (file:line: error: ...).
     pub fn compile(&self, path: &str) -> Result<Vec<u32>> {
+        match &self.compiler {
+            Some(compiler) => self.compile_glsl(compiler, path),
+            None => {
+                PRECOMPILED.iter().find(|(entry, _)| *entry == path).map(|(_, bytes)| spirv_words(bytes)).ok_or_else(
+                    || Error::Shader { path: path.to_string(), log: "no such entry file under shaders/".into() },
+                )
+            }
+        }
+    }
+
+    fn compile_glsl(&self, compiler: &shaderc::Compiler, path: &str) -> Result<Vec<u32>> {
         let error = |log: String| Error::Shader { path: path.to_string(), log };
         let stage = match path.rsplit('.').next() {
             Some("vert") => shaderc::ShaderKind::Vertex,
@@ -105,7 +133,8 @@ impl ShaderCompiler {
         // SPIR-V 1.5: at 1.6 glslang declares workgroup sizes with LocalSizeId, which needs the maintenance4
         // feature, and the validation layer of Debian 12 reports it even when the feature is enabled.
         options.set_target_spirv(shaderc::SpirvVersion::V1_5);
-        options.set_generate_debug_info();
+        // No debug info (line tables, source text): its file names are the only thing in which glslc, at
+        // build time, and this compiler differ ("./brdf/x.glsl" against "brdf/x.glsl"). Names are kept.
         let sources = self.sources.clone();
         options.set_include_callback(move |requested, _kind, requesting, _depth| {
             let beside = match requesting.rsplit_once('/') {
@@ -122,15 +151,18 @@ impl ShaderCompiler {
                 })
                 .ok_or_else(|| format!("cannot find {requested} under shaders/"))
         });
-        let artifact = self
-            .compiler
-            .compile_into_spirv(text, stage, path, "main", Some(&options))
-            .map_err(|e| error(e.to_string()))?;
+        let artifact =
+            compiler.compile_into_spirv(text, stage, path, "main", Some(&options)).map_err(|e| error(e.to_string()))?;
         if artifact.get_num_warnings() > 0 {
             log::warn!("{path}: {}", artifact.get_warning_messages());
         }
         Ok(artifact.as_binary().to_vec())
     }
+}
+
+/// SPIR-V words from the bytes glslc wrote (in this machine's byte order, as it made them here).
+fn spirv_words(bytes: &[u8]) -> Vec<u32> {
+    bytes.chunks_exact(4).map(|w| u32::from_ne_bytes([w[0], w[1], w[2], w[3]])).collect()
 }
 
 /// A shader module, destroyed in Drop.
@@ -177,6 +209,19 @@ mod tests {
         for entry in entries {
             let spirv = compiler.compile(&entry).unwrap_or_else(|e| panic!("{e}"));
             assert_eq!(spirv[0], 0x0723_0203, "{entry} is not SPIR-V");
+        }
+    }
+
+    #[test]
+    fn the_spirv_compiled_at_build_time_is_the_run_time_compilers() {
+        // A source tree on disk is compiled by shaderc (a copy with one more file, so that it is not the
+        // embedded one), and must give glslc's words exactly: one compiler behind both.
+        let runtime = ShaderCompiler::new(ShaderSources::default().with_file("unused.glsl", "")).unwrap();
+        assert!(runtime.compiler.is_some());
+        assert!(ShaderCompiler::new(ShaderSources::default()).unwrap().compiler.is_none());
+        assert!(PRECOMPILED.len() >= 7, "{}", PRECOMPILED.len());
+        for (entry, bytes) in PRECOMPILED {
+            assert!(runtime.compile(entry).unwrap() == spirv_words(bytes), "{entry}: glslc and shaderc differ");
         }
     }
 
