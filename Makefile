@@ -13,7 +13,7 @@ CARGO ?= cargo
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test test-current bench bless clean
+.PHONY: all setup setup-test build render test test-current bench bench-peer bless clean
 
 all: render
 
@@ -49,6 +49,11 @@ test-current:
 ## bench: the renderer's benchmark (median of 9 runs each); `scripts/stage-current.sh bench` on Debian 13
 bench: setup
 	$(CARGO) bench --locked --bench render
+
+## bench-peer: vk-render against pyrender (OpenGL on the same Mesa) on the same scenes, in one run, as ratios
+## (scripts/bench-pyrender.sh; `scripts/stage-current.sh bench-peer` on Debian 13)
+bench-peer: setup
+	scripts/bench-pyrender.sh
 
 ## bless: rewrite the golden images of tests/golden/ from lavapipe's renders (on purpose: review the diff)
 bless: setup-test

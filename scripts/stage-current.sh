@@ -84,12 +84,15 @@ exec unshare --mount --propagation private /bin/bash -euo pipefail -c '
     bind "$cargo_home"
     bind "$rustup_home"
     cp -L /etc/resolv.conf "$root/etc/resolv.conf"
+    # pip inside (the pyrender benchmark) trusts what this machine trusts: a network may inspect TLS with
+    # its own authority, which the root'"'"'s Debian bundle does not hold.
+    cp -L /etc/ssl/certs/ca-certificates.crt "$root/etc/ssl/certs/host-ca-certificates.crt"
     mkdir -p "$root/run/user/0" && chmod 700 "$root/run/user/0"
     echo "== $stage stage: make $* in $project"
     exec chroot "$root" /usr/bin/env -i \
         HOME=/root PATH="$cargo_home/bin:/usr/sbin:/usr/bin:/sbin:/bin" \
         CARGO_HOME="$cargo_home" RUSTUP_HOME="$rustup_home" \
         CARGO_TARGET_DIR="$project/target/$stage" XDG_RUNTIME_DIR=/run/user/0 \
-        CI="${CI:-}" TERM=dumb DEBIAN_FRONTEND=noninteractive \
+        CI="${CI:-}" TERM=dumb DEBIAN_FRONTEND=noninteractive PIP_CERT=/etc/ssl/certs/host-ca-certificates.crt \
         /bin/bash -c "cd \"\$1\" && shift && make \"\$@\"" make "$project" "$@"
 ' stage "$root" "$project" "$cargo_home" "$rustup_home" "$stage" "${targets[@]}"

@@ -25,6 +25,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     // the CPU reference, through any sample position.
     mat4 pixel_rays;
     vec4 camera_position;
+    vec4 background;           // rgb, alpha 1: what no object covers
     float shadow_texel_angle;  // 2 / shadow_map_size: a texel's angle at the centre of a cube face
     uint samples;              // MSAA samples per pixel, at Vulkan's standard sample locations
 } frame;

@@ -7,11 +7,11 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gpu_types::GpuMaterial;
-use super::passes::{begin_rendering, build_pipeline, CompiledShader, PassTargets};
+use super::passes::{begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
 use crate::scene::{Object, Scene, ShadowFilter};
-use crate::vulkan::{Device, Pipeline, PipelineLayout, ShaderCompiler};
+use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderCompiler};
 
 /// The HDR colour format: 32-bit float, so that the course's truncation to 8 bits sees exact values.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
@@ -21,8 +21,11 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 pub struct ForwardPass {
     meshes: (CompiledShader, CompiledShader),
     spheres: (CompiledShader, CompiledShader),
+    background: (CompiledShader, CompiledShader),
     layout: Arc<PipelineLayout>,
     pipelines: HashMap<PipelineKey, Pipeline>,
+    /// The background's, per sample count.
+    background_pipelines: HashMap<vk::SampleCountFlags, Pipeline>,
     device: Arc<Device>,
 }
 
@@ -49,8 +52,13 @@ impl ForwardPass {
                 CompiledShader::new(compiler, "forward_sphere.vert")?,
                 CompiledShader::new(compiler, "forward_sphere.frag")?,
             ),
+            background: (
+                CompiledShader::new(compiler, "background.vert")?,
+                CompiledShader::new(compiler, "background.frag")?,
+            ),
             layout: layout.clone(),
             pipelines: HashMap::new(),
+            background_pipelines: HashMap::new(),
             device: device.clone(),
         })
     }
@@ -88,16 +96,59 @@ impl ForwardPass {
     }
 }
 
-/// Begins dynamic rendering into the colour target (cleared to the background; resolved to `resolved`
-/// when multisampled, the float resolve averaging the samples as the course averages its pixel samples)
-/// and the depth target.
-pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets, background: [f32; 4]) {
+impl ForwardPass {
+    /// The background's pipeline for `samples`: no vertex input, every depth test passing.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` if the driver refuses the pipeline.
+    pub fn background_pipeline(&mut self, samples: vk::SampleCountFlags) -> Result<vk::Pipeline> {
+        if let Some(pipeline) = self.background_pipelines.get(&samples) {
+            return Ok(pipeline.raw);
+        }
+        let (vertex, fragment) = &self.background;
+        let vertex_module = self.device.create_shader_module(&vertex.spirv, vertex.name)?;
+        let fragment_module = self.device.create_shader_module(&fragment.spirv, fragment.name)?;
+        let desc = GraphicsPipelineDesc {
+            vertex: &vertex_module,
+            fragment: &fragment_module,
+            vertex_bindings: &[],
+            vertex_attributes: &[],
+            color_formats: &[COLOR_FORMAT],
+            depth_format: DEPTH_FORMAT,
+            depth_compare: vk::CompareOp::ALWAYS,
+            samples,
+            layout: &self.layout,
+            fragment_constants: &[],
+        };
+        let pipeline = self.device.create_graphics_pipeline(&desc, &format!("background x{}", samples.as_raw()))?;
+        let raw = pipeline.raw;
+        self.background_pipelines.insert(samples, pipeline);
+        Ok(raw)
+    }
+}
+
+/// Draws the background (its pipeline from [`ForwardPass::background_pipeline`]) over the whole target:
+/// the first draw of the forward pass.
+pub fn draw_background(device: &Device, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, targets: &PassTargets) {
+    // SAFETY: the command buffer is recording inside the forward pass; the pipeline outlives the submission.
+    unsafe {
+        set_viewport_and_scissor(device, cmd, targets);
+        device.raw.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+        device.raw.cmd_set_front_face(cmd, vk::FrontFace::COUNTER_CLOCKWISE);
+        device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+        device.raw.cmd_draw(cmd, 3, 1, 0, 0);
+    }
+}
+
+/// Begins dynamic rendering into the colour target (resolved to `resolved` when multisampled, the float
+/// resolve averaging the samples as the course averages its pixel samples) and the depth target, neither
+/// loaded nor cleared: the background, drawn first ([`ForwardPass::draw_background`]), writes every sample.
+pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets) {
     let mut color = vk::RenderingAttachmentInfo::default()
         .image_view(targets.color)
         .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
-        .store_op(vk::AttachmentStoreOp::STORE)
-        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: background } });
+        .load_op(vk::AttachmentLoadOp::DONT_CARE)
+        .store_op(vk::AttachmentStoreOp::STORE);
     if let Some(resolved) = targets.resolve {
         color = color
             .resolve_mode(vk::ResolveModeFlags::AVERAGE)
@@ -105,5 +156,5 @@ pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets, bac
             .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .store_op(vk::AttachmentStoreOp::DONT_CARE);
     }
-    begin_rendering(device, cmd, targets, color);
+    begin_rendering(device, cmd, targets, color, vk::AttachmentLoadOp::DONT_CARE);
 }

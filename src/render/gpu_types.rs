@@ -14,6 +14,8 @@ pub struct GpuFrame {
     /// The camera ray through framebuffer position (x, y) is `pixel_rays * (x, y, 1, 0)`: see [`PixelRays`].
     pub pixel_rays: [[f32; 4]; 4],
     pub camera_position: [f32; 4],
+    /// The image's background colour, alpha 1.
+    pub background: [f32; 4],
     /// The angle a shadow-map texel subtends at the centre of a cube face: 2 / size.
     pub shadow_texel_angle: f32,
     /// MSAA samples per pixel.
@@ -115,6 +117,7 @@ impl GpuFrame {
             pixel_rays: [rays.per_x.extend(0.0), rays.per_y.extend(0.0), rays.corner.extend(0.0), glam::Vec4::ZERO]
                 .map(|c| c.to_array()),
             camera_position: camera.position.extend(1.0).into(),
+            background: image.background.extend(1.0).into(),
             shadow_texel_angle: 2.0 / image.shadow_map_size as f32,
             samples: image.samples,
             pad: [0; 2],
@@ -261,6 +264,7 @@ mod tests {
                 ("view_projection", offset_of!(GpuFrame, view_projection)),
                 ("pixel_rays", offset_of!(GpuFrame, pixel_rays)),
                 ("camera_position", offset_of!(GpuFrame, camera_position)),
+                ("background", offset_of!(GpuFrame, background)),
                 ("shadow_texel_angle", offset_of!(GpuFrame, shadow_texel_angle)),
                 ("samples", offset_of!(GpuFrame, samples)),
             ],

@@ -330,6 +330,7 @@ impl Renderer {
             .zip(placed)
             .map(|(object, p)| self.forward.pipeline(scene, object, p))
             .collect::<Result<Vec<_>>>()?;
+        let background_pipeline = self.forward.background_pipeline(samples)?;
         let shadow_pipelines: Vec<vk::Pipeline> = placed.iter().map(|p| self.shadow.pipeline(p)).collect();
 
         let frame = FrameRecording {
@@ -350,7 +351,7 @@ impl Renderer {
                 view_projection: Mat4::from_cols_array_2d(&values.frame.view_projection),
             },
             targets: &targets,
-            background: scene.image.background.extend(1.0).to_array(),
+            background: background_pipeline,
         };
         let drawn = device.submit_and_wait(|cmd| {
             frame.record(cmd);
@@ -380,7 +381,8 @@ struct FrameRecording<'a> {
     forward: &'a [vk::Pipeline],
     camera: PassView,
     targets: &'a Targets,
-    background: [f32; 4],
+    /// The background's pipeline.
+    background: vk::Pipeline,
 }
 
 /// The shadow cubes to draw.
@@ -418,7 +420,8 @@ impl FrameRecording<'_> {
         }
         barriers(device, cmd, &to_targets);
         let pass = targets.pass_targets();
-        forward::begin(device, cmd, &pass, self.background);
+        forward::begin(device, cmd, &pass);
+        forward::draw_background(device, cmd, self.background, &pass);
         draw_objects(device, cmd, self.layout, self.forward, self.camera, &pass, self.placed, self.meshes, (0, 0));
         // SAFETY: as above.
         unsafe { device.raw.cmd_end_rendering(cmd) };

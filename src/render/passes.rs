@@ -222,18 +222,9 @@ pub fn draw_objects(
     meshes: &MeshUploads,
     shadow_face: (u32, u32),
 ) {
-    let viewport = vk::Viewport {
-        x: 0.0,
-        y: 0.0,
-        width: targets.width as f32,
-        height: targets.height as f32,
-        min_depth: 0.0,
-        max_depth: 1.0,
-    };
     // SAFETY: the command buffer is recording inside a render pass; the buffers outlive the submission.
     unsafe {
-        device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
-        device.raw.cmd_set_scissor(cmd, 0, &[targets.area()]);
+        set_viewport_and_scissor(device, cmd, targets);
         device.raw.cmd_set_front_face(cmd, view.front_face());
         let mut bound = None;
         for (index, (p, &pipeline)) in placed.iter().zip(pipelines).enumerate() {
@@ -264,6 +255,23 @@ pub fn draw_objects(
     }
 }
 
+/// Sets the viewport and scissor to the whole target.
+pub fn set_viewport_and_scissor(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets) {
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: targets.width as f32,
+        height: targets.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    // SAFETY: the command buffer is recording.
+    unsafe {
+        device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.raw.cmd_set_scissor(cmd, 0, &[targets.area()]);
+    }
+}
+
 /// A layout transition of every layer of an image, with its source and destination (stage, access).
 pub fn image_barrier(
     image: &Image,
@@ -281,19 +289,20 @@ pub fn barriers(device: &Device, cmd: vk::CommandBuffer, barriers: &[vk::ImageMe
     unsafe { device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(barriers)) };
 }
 
-/// Begins dynamic rendering into `color` and the targets' depth image, cleared to 0 (the far end in
-/// reverse-Z) and not stored.
+/// Begins dynamic rendering into `color` and the targets' depth image, loaded with `depth_load` (a clear
+/// to 0, the far end in reverse-Z, or nothing when the pass writes every sample itself) and not stored.
 pub fn begin_rendering(
     device: &Device,
     cmd: vk::CommandBuffer,
     targets: &PassTargets,
     color: vk::RenderingAttachmentInfo,
+    depth_load: vk::AttachmentLoadOp,
 ) {
     let colors = [color];
     let depth = vk::RenderingAttachmentInfo::default()
         .image_view(targets.depth)
         .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .load_op(depth_load)
         .store_op(vk::AttachmentStoreOp::DONT_CARE)
         .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
     let rendering = vk::RenderingInfo::default()

@@ -191,7 +191,7 @@ pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets) {
         .load_op(vk::AttachmentLoadOp::CLEAR)
         .store_op(vk::AttachmentStoreOp::STORE)
         .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: [FAR_AWAY, 0.0, 0.0, 0.0] } });
-    begin_rendering(device, cmd, targets, color);
+    begin_rendering(device, cmd, targets, color, vk::AttachmentLoadOp::CLEAR);
 }
 
 #[cfg(test)]
