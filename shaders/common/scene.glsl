@@ -16,6 +16,7 @@ struct PointLight {
     vec4 position;   // xyz
     vec4 radiance;   // rgb = colour * power: incident radiance at distance d is radiance / d^2
     ivec4 shadow;    // x: the light's cube in shadow_maps, or -1 when it casts no shadows
+                     // y: the faces of that cube the image needs, drawn (bit i: face i)
 };
 
 layout(set = 0, binding = 0, std140) uniform Frame {

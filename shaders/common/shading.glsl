@@ -21,6 +21,31 @@ layout(constant_id = 1) const uint SHADOW_FILTER = 0u;
 // two lights shaded about 10% faster on lavapipe).
 layout(constant_id = 2) const uint LIGHT_COUNT = 0u;
 
+// The faces of a cube a lookup in direction d may read (bit i for face i: +x, -x, +y, -y, +z, -z): its
+// major axis's, and any other within SEEN_FACES_TIE of it, where rounding may pick either.
+const float SEEN_FACES_TIE = 1e-3;
+uint faces_read(vec3 d) {
+    vec3 a = abs(d);
+    float least = max(a.x, max(a.y, a.z)) * (1.0 - SEEN_FACES_TIE);
+    uint faces = 0u;
+    faces |= a.x >= least ? (d.x >= 0.0 ? 1u : 2u) : 0u;
+    faces |= a.y >= least ? (d.y >= 0.0 ? 4u : 8u) : 0u;
+    faces |= a.z >= least ? (d.z >= 0.0 ? 16u : 32u) : 0u;
+    return faces;
+}
+
+// 1 where the cube holds a distance beyond `unoccluded` in `direction` (the light sees that far), 0 where
+// it does not. Only the faces a visible point can read are drawn (`seen`: src/render/shadow.rs,
+// faces_seen); a lookup that may read another comes from no visible point (attributes extrapolated from a
+// sample to the pixel centre can leave the view) and counts as lit, so that what a face no image needed
+// holds never shows.
+float lit_in(vec3 direction, float layer, uint seen, float unoccluded) {
+    if ((faces_read(direction) & ~seen) != 0u) {
+        return 1.0;
+    }
+    return textureLod(shadow_maps, vec4(direction, layer), 0.0).r < unoccluded ? 0.0 : 1.0;
+}
+
 // Whether the light sees p (1) or not (0), or the fraction of PCF lookups that do.
 //
 // The cube holds, per texel, the distance from the light to the nearest surface along the texel's centre
@@ -40,10 +65,11 @@ float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
     float reach = pcf ? 1.75 : 0.75;
     float unoccluded = distance - distance * texel * (reach * tan_theta + 0.5);
     float layer = float(light.shadow.x);
-    // Explicit level 0: this runs in non-uniform control flow (per light, past a per-fragment test), where
-    // texture()'s implicit level of detail is undefined; the cubes have one level anyway.
+    uint seen = uint(light.shadow.y);
+    // lit_in reads level 0 explicitly: this runs in non-uniform control flow (per light, past a
+    // per-fragment test), where texture()'s implicit level of detail is undefined; the cubes have one level.
     if (!pcf) {
-        return textureLod(shadow_maps, vec4(from_light, layer), 0.0).r < unoccluded ? 0.0 : 1.0;
+        return lit_in(from_light, layer, seen, unoccluded);
     }
     // PCF: 3 x 3 lookups one texel apart across the lookup direction, averaged.
     vec3 u = normalize(abs(from_light.x) < 0.9 * distance ? cross(from_light, vec3(1.0, 0.0, 0.0))
@@ -54,7 +80,7 @@ float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
     for (int i = -1; i <= 1; ++i) {
         for (int j = -1; j <= 1; ++j) {
             vec3 direction = from_light + (float(i) * u + float(j) * v) * step_length;
-            lit += textureLod(shadow_maps, vec4(direction, layer), 0.0).r < unoccluded ? 0.0 : 1.0;
+            lit += lit_in(direction, layer, seen, unoccluded);
         }
     }
     return lit / 9.0;

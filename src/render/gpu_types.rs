@@ -29,7 +29,8 @@ pub struct GpuFrame {
 pub struct GpuPointLight {
     pub position: [f32; 4],
     pub radiance: [f32; 4],
-    /// x: the light's cube in the shadow cube array, or -1 for a light that casts no shadows.
+    /// x: the light's cube in the shadow cube array, or -1 for a light that casts no shadows; y: the faces
+    /// of its cube that are drawn (bit i for face i).
     pub shadow: [i32; 4],
 }
 
@@ -126,12 +127,17 @@ impl GpuFrame {
 }
 
 impl GpuPointLight {
-    /// A light whose shadow cube is `shadow_slot` in the cube array, if it casts shadows.
-    pub fn new(light: &PointLight, shadow_slot: Option<usize>) -> Self {
+    /// A light whose shadow cube is `shadow`'s slot in the cube array, with the faces drawn, if it casts
+    /// shadows.
+    pub fn new(light: &PointLight, shadow: Option<(usize, [bool; 6])>) -> Self {
+        let (slot, faces) = match shadow {
+            Some((slot, seen)) => (slot as i32, (0..6).filter(|&f| seen[f]).map(|f| 1 << f).sum()),
+            None => (-1, 0),
+        };
         Self {
             position: light.position.extend(1.0).into(),
             radiance: (light.color * light.power).extend(0.0).into(),
-            shadow: [shadow_slot.map_or(-1, |slot| slot as i32), 0, 0, 0],
+            shadow: [slot, faces, 0, 0],
         }
     }
 }

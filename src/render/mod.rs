@@ -18,7 +18,8 @@ use crate::mesh::{place_objects, PlacedMesh};
 use crate::output::{encode_texels, HdrImage, TexelOrder};
 use crate::scene::Scene;
 use crate::vulkan::{
-    whole_image_copy, Access, Device, DeviceInfo, Instance, PipelineLayout, Sampler, ShaderCompiler, ShaderSources,
+    layer_range, layout_transition, whole_image_copy, Access, Device, DeviceInfo, Instance, PipelineLayout, Sampler,
+    ShaderCompiler, ShaderSources,
 };
 use forward::{ForwardPass, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuFrame, GpuObject, GpuPointLight};
@@ -26,7 +27,7 @@ use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, Pa
 pub use probe::ProbeCase;
 use probe::{read_vec3s, ProbePass};
 use scene_data::{SceneData, SceneValues};
-use shadow::{cube_face_views, ShadowCubes, ShadowKey, ShadowPass, DISTANCE_FORMAT};
+use shadow::{cube_face_views, faces_read_by, FaceKey, ShadowCubes, ShadowPass, DISTANCE_FORMAT};
 use targets::{Targets, BYTES_PER_PIXEL};
 
 /// The near plane's distance: with reverse-Z float depth the precision does not depend on it.
@@ -284,15 +285,19 @@ impl Renderer {
 
         // Scene data. Each light that casts shadows gets the next cube of the shadow cube array.
         let shadow_casters: Vec<usize> = (0..scene.lights.len()).filter(|&i| scene.lights[i].shadows).collect();
+        let seen: Vec<[bool; 6]> =
+            shadow_casters.iter().map(|&i| faces_read_by(scene, scene.lights[i].position)).collect();
         let lights: Vec<GpuPointLight> = scene
             .lights
             .iter()
             .enumerate()
-            .map(|(i, light)| GpuPointLight::new(light, shadow_casters.iter().position(|&c| c == i)))
+            .map(|(i, light)| {
+                GpuPointLight::new(light, shadow_casters.iter().position(|&c| c == i).map(|cube| (cube, seen[cube])))
+            })
             .collect();
         let objects: Vec<GpuObject> =
             scene.objects.iter().zip(placed).map(|(object, p)| GpuObject::new(object, p.model)).collect();
-        // Every face of every cube, in drawing order.
+        // Every face of every cube, in the order of the array's layers.
         let shadow_faces: Vec<PassView> = shadow_casters
             .iter()
             .flat_map(|&i| {
@@ -311,10 +316,13 @@ impl Renderer {
 
         // What is kept from the last image where it still holds, made anew where not.
         self.meshes.update(&device, placed)?;
-        let shadow_key = ShadowKey::new(scene, placed, &shadow_casters);
-        let mut cubes = ShadowCubes::for_key(&device, self.shadow_cubes.take(), &shadow_key)?;
-        let draw_shadows = !cubes.show(&shadow_key);
-        cubes.set_drawn(None);
+        let mut cubes = ShadowCubes::for_lights(
+            &device,
+            self.shadow_cubes.take(),
+            scene.image.shadow_map_size,
+            shadow_casters.len(),
+        )?;
+        let faces_to_draw = faces_to_draw(scene, placed, (&shadow_casters, &seen), &shadow_faces, &cubes);
         let targets = Targets::for_size(&device, self.targets.take(), width, height, samples)?;
         let cubes_binding = (cubes.maps.view, &self.shadow_sampler);
         let scene_data = match self.scene_data.take() {
@@ -339,11 +347,7 @@ impl Renderer {
             set: scene_data.set,
             placed,
             meshes: &self.meshes,
-            shadow: draw_shadows.then_some(ShadowDrawing {
-                pipelines: &shadow_pipelines,
-                casters: &shadow_casters,
-                faces: &shadow_faces,
-            }),
+            shadow: ShadowDrawing { pipelines: &shadow_pipelines, faces: &faces_to_draw, lay_out: cubes.need_layout() },
             cubes: &cubes,
             forward: &forward_pipelines,
             camera: PassView {
@@ -357,9 +361,8 @@ impl Renderer {
             frame.record(cmd);
             Ok(())
         });
-        if drawn.is_ok() {
-            cubes.set_drawn(Some(shadow_key));
-        }
+        let drawn_faces: Vec<(u32, FaceKey)> = faces_to_draw.into_iter().map(|face| (face.layer, face.key)).collect();
+        cubes.set_drawn(drawn.is_ok().then_some(&drawn_faces[..]));
         self.shadow_cubes = Some(cubes);
         self.targets = Some(targets);
         self.scene_data = Some(scene_data);
@@ -367,15 +370,49 @@ impl Renderer {
     }
 }
 
-/// One image's commands: the shadow cubes when they must be drawn, the forward pass, the read-back.
+/// One face of a shadow cube to draw.
+struct FaceDrawing {
+    /// The face's layer in the cube array.
+    layer: u32,
+    /// The light's index in the scene, and the face (0 to 5: +x, -x, +y, -y, +z, -z).
+    light_face: (u32, u32),
+    view: PassView,
+    /// What it will hold.
+    key: FaceKey,
+}
+
+/// The faces of the shadow cubes that this image reads (`seen`, per light of `casters`) and `cubes` do not
+/// hold yet.
+fn faces_to_draw(
+    scene: &Scene,
+    placed: &[PlacedMesh],
+    (casters, seen): (&[usize], &[[bool; 6]]),
+    views: &[PassView],
+    cubes: &ShadowCubes,
+) -> Vec<FaceDrawing> {
+    let geometry: Arc<[PlacedMesh]> = placed.into();
+    let mut faces = Vec::new();
+    for (cube, (&light, seen)) in casters.iter().zip(seen).enumerate() {
+        let key = FaceKey::new(scene.image.shadow_map_size, scene.lights[light].position, geometry.clone());
+        for face in (0..6).filter(|&face| seen[face]) {
+            let layer = (6 * cube + face) as u32;
+            if !cubes.holds(layer, &key) {
+                let light_face = (light as u32, face as u32);
+                faces.push(FaceDrawing { layer, light_face, view: views[layer as usize], key: key.clone() });
+            }
+        }
+    }
+    faces
+}
+
+/// One image's commands: the shadow cube faces it needs drawn, the forward pass, the read-back.
 struct FrameRecording<'a> {
     device: &'a Device,
     layout: vk::PipelineLayout,
     set: vk::DescriptorSet,
     placed: &'a [PlacedMesh],
     meshes: &'a MeshUploads,
-    /// `None` when the cubes kept from an earlier image still hold.
-    shadow: Option<ShadowDrawing<'a>>,
+    shadow: ShadowDrawing<'a>,
     cubes: &'a ShadowCubes,
     /// The forward pass's pipeline for each object.
     forward: &'a [vk::Pipeline],
@@ -385,14 +422,13 @@ struct FrameRecording<'a> {
     background: vk::Pipeline,
 }
 
-/// The shadow cubes to draw.
+/// The shadow cube faces to draw.
 struct ShadowDrawing<'a> {
     /// The shadow pass's pipeline for each object.
     pipelines: &'a [vk::Pipeline],
-    /// The lights that cast shadows, in cube order.
-    casters: &'a [usize],
-    /// Each face of each cube, in the same order.
-    faces: &'a [PassView],
+    faces: &'a [FaceDrawing],
+    /// Whether the cubes' layers still need their first transition to the layout the forward pass reads.
+    lay_out: bool,
 }
 
 impl FrameRecording<'_> {
@@ -402,8 +438,7 @@ impl FrameRecording<'_> {
         unsafe {
             device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout, 0, &[self.set], &[]);
         }
-        let mut to_targets: Vec<_> =
-            self.shadow.as_ref().map(|shadow| self.record_shadow_cubes(cmd, shadow)).into_iter().collect();
+        let mut to_targets = self.record_shadow_faces(cmd);
 
         // The forward pass.
         let targets = self.targets;
@@ -452,29 +487,39 @@ impl FrameRecording<'_> {
         targets.readback.record_host_read_barrier(cmd, vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
     }
 
-    /// Draws every face of every shadow cube, one light at a time, and returns the barrier that makes the
-    /// cubes readable by the forward pass (to be recorded with the forward pass's own).
-    fn record_shadow_cubes(&self, cmd: vk::CommandBuffer, shadow: &ShadowDrawing) -> vk::ImageMemoryBarrier2<'static> {
-        let device = self.device;
-        let cubes = self.cubes;
-        if shadow.casters.is_empty() {
-            // The unused 1-texel cube only has to be in the layout the set names.
-            return image_barrier(&cubes.maps, vk::ImageLayout::UNDEFINED, READ_ONLY, NOTHING, SAMPLED);
+    /// Draws the shadow cube faces to draw, and returns the barriers that make them (and, on the first image,
+    /// every layer) readable by the forward pass, to be recorded with the forward pass's own.
+    fn record_shadow_faces(&self, cmd: vk::CommandBuffer) -> Vec<vk::ImageMemoryBarrier2<'static>> {
+        let (device, cubes, shadow) = (self.device, self.cubes, &self.shadow);
+        let layer = |layer: u32, old, new, src, dst| {
+            layout_transition(cubes.maps.raw, layer_range(vk::ImageAspectFlags::COLOR, layer, 1), old, new, src, dst)
+        };
+        let drawn = |l: u32| shadow.faces.iter().any(|face| face.layer == l);
+        // Faces to draw go to the colour target layout, their contents discarded; on the first image every
+        // other layer goes to the layout the set names, never to be written (no visible point reads it).
+        let to_targets: Vec<_> = shadow
+            .faces
+            .iter()
+            .map(|f| layer(f.layer, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE))
+            .collect();
+        let mut to_read: Vec<_> = Vec::new();
+        if shadow.lay_out {
+            let unused = (0..cubes.maps.desc.layers).filter(|&l| !drawn(l));
+            to_read.extend(unused.map(|l| layer(l, vk::ImageLayout::UNDEFINED, READ_ONLY, NOTHING, SAMPLED)));
         }
-        barriers(
-            device,
-            cmd,
-            &[image_barrier(&cubes.maps, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE)],
-        );
+        if to_targets.is_empty() {
+            return to_read;
+        }
+        barriers(device, cmd, &to_targets);
         let size = cubes.depth.desc.width;
-        let faces = shadow.casters.iter().flat_map(|&light| (0..6u32).map(move |face| (light as u32, face)));
-        for ((face_view, light_face), &view) in cubes.face_views.iter().zip(faces).zip(shadow.faces) {
+        for face in shadow.faces {
             // The depth image is cleared for each face: the previous face's tests must be over first.
             barriers(
                 device,
                 cmd,
                 &[image_barrier(&cubes.depth, vk::ImageLayout::UNDEFINED, DEPTH_TARGET, DEPTH_TESTS, DEPTH_TESTS)],
             );
+            let face_view = &cubes.face_views[face.layer as usize];
             let targets =
                 PassTargets { color: face_view.raw, resolve: None, depth: cubes.depth.view, width: size, height: size };
             shadow::begin(device, cmd, &targets);
@@ -483,16 +528,17 @@ impl FrameRecording<'_> {
                 cmd,
                 self.layout,
                 shadow.pipelines,
-                view,
+                face.view,
                 &targets,
                 self.placed,
                 self.meshes,
-                light_face,
+                face.light_face,
             );
             // SAFETY: the command buffer is recording; every handle outlives the submission.
             unsafe { device.raw.cmd_end_rendering(cmd) };
         }
-        image_barrier(&cubes.maps, COLOR_TARGET, READ_ONLY, COLOR_WRITE, SAMPLED)
+        to_read.extend(shadow.faces.iter().map(|f| layer(f.layer, COLOR_TARGET, READ_ONLY, COLOR_WRITE, SAMPLED)));
+        to_read
     }
 }
 

@@ -13,10 +13,11 @@ use ash::vk;
 use glam::{Mat4, Vec3};
 
 use super::forward::DEPTH_FORMAT;
+use super::gpu_types::PixelRays;
 use super::passes::{begin_rendering, build_pipeline, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene, ShadowFilter};
 use crate::vulkan::{Device, Image, ImageDesc, ImageView, Pipeline, PipelineLayout, ShaderCompiler};
 
 /// Distance from the light, in 32-bit float.
@@ -55,78 +56,64 @@ impl ShadowPass {
 }
 
 /// Kept per lighting: the shadow cubes (one per light that casts shadows, a single unused 1-texel cube when
-/// none does) and the depth image every face is drawn with in turn. They are drawn again only when what
-/// they show changes (see [`ShadowKey`]), so that a sweep over a material or a camera orbiting in the
-/// preview reuse them.
+/// none does) and the depth image every face is drawn with in turn. A face is drawn only when the camera
+/// can see a point it holds the distance of ([`faces_seen`]), and drawn again only when what it shows
+/// changed (see [`FaceKey`]): a sweep over a material reuses every face, a camera orbiting in the preview
+/// draws a face once, when it first comes into view.
 pub struct ShadowCubes {
     pub maps: Image,
     pub depth: Image,
-    /// One view per face of each cube, in the order the faces are drawn.
+    /// One view per face of each cube, in the order of the array's layers.
     pub face_views: Vec<ImageView>,
-    /// What the cubes hold, once drawn and ready to be read; `None` until then.
-    drawn: Option<ShadowKey>,
+    /// What each layer holds, once drawn and ready to be read; `None` before, or after the shaders changed.
+    drawn: Vec<Option<FaceKey>>,
+    /// Whether every layer is in the layout the forward pass reads, which the first image sets.
+    laid_out: bool,
 }
 
-/// What shadow cubes show: the map size, the positions of the lights that cast shadows (in cube order),
-/// and every object's mesh (by identity), placement and kind.
-pub struct ShadowKey {
+/// What one face of a shadow cube shows: the map size, the light's position and every object's mesh (by
+/// identity), placement and kind.
+#[derive(Clone)]
+pub struct FaceKey {
     size: u32,
-    lights: Vec<Vec3>,
-    geometry: Vec<PlacedMesh>,
+    light: Vec3,
+    geometry: Arc<[PlacedMesh]>,
 }
 
-impl PartialEq for ShadowKey {
+impl PartialEq for FaceKey {
     fn eq(&self, other: &Self) -> bool {
         let same_object = |(a, b): (&PlacedMesh, &PlacedMesh)| {
             Arc::ptr_eq(&a.mesh, &b.mesh) && a.model == b.model && a.exact_sphere == b.exact_sphere
         };
         self.size == other.size
-            && self.lights == other.lights
+            && self.light == other.light
             && self.geometry.len() == other.geometry.len()
-            && self.geometry.iter().zip(&other.geometry).all(same_object)
+            && self.geometry.iter().zip(other.geometry.iter()).all(same_object)
     }
 }
 
-impl ShadowKey {
-    /// What the cubes of `scene` show, `casters` being its lights that cast shadows.
-    pub fn new(scene: &Scene, placed: &[PlacedMesh], casters: &[usize]) -> Self {
-        Self {
-            size: scene.image.shadow_map_size,
-            lights: casters.iter().map(|&i| scene.lights[i].position).collect(),
-            // The geometry only matters to the cubes when there are any to draw.
-            geometry: if casters.is_empty() { Vec::new() } else { placed.to_vec() },
-        }
-    }
-
-    /// The size of the cubes: the scene's, or 1 when no light casts shadows.
-    fn cube_size(&self) -> u32 {
-        if self.lights.is_empty() {
-            1
-        } else {
-            self.size
-        }
+impl FaceKey {
+    pub fn new(size: u32, light: Vec3, geometry: Arc<[PlacedMesh]>) -> Self {
+        Self { size, light, geometry }
     }
 }
 
 impl ShadowCubes {
-    /// Cubes for `key`: `kept` when they are of its size and count (drawn again if they show something
-    /// else), new ones otherwise.
+    /// `cubes` cubes of `size` texels (at least one, of one texel, when no light casts shadows): `kept`
+    /// when it has that size and count, new ones otherwise.
     ///
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
-    pub fn for_key(device: &Arc<Device>, kept: Option<Self>, key: &ShadowKey) -> Result<Self> {
-        let size = key.cube_size();
-        let cubes = key.lights.len() as u32;
-        if let Some(kept) = kept {
-            if kept.depth.desc.width == size && kept.maps.desc.layers == 6 * cubes.max(1) {
-                return Ok(kept);
-            }
+    pub fn for_lights(device: &Arc<Device>, kept: Option<Self>, size: u32, cubes: usize) -> Result<Self> {
+        let (size, layers) = if cubes == 0 { (1, 6) } else { (size, 6 * cubes as u32) };
+        if let Some(kept) = kept.filter(|k| k.depth.desc.width == size && k.maps.desc.layers == layers) {
+            return Ok(kept);
         }
         let maps = device.create_image(
             ImageDesc {
                 width: size,
                 height: size,
-                layers: 6 * cubes.max(1),
+                layers,
                 cube: true,
                 format: DISTANCE_FORMAT,
                 samples: vk::SampleCountFlags::TYPE_1,
@@ -146,20 +133,111 @@ impl ShadowCubes {
             ),
             "shadow depth",
         )?;
-        let face_views = (0..6 * cubes).map(|layer| maps.layer_view(layer, 1)).collect::<Result<Vec<_>>>()?;
-        Ok(Self { maps, depth, face_views, drawn: None })
+        let face_views = (0..layers).map(|layer| maps.layer_view(layer, 1)).collect::<Result<Vec<_>>>()?;
+        Ok(Self { maps, depth, face_views, drawn: vec![None; layers as usize], laid_out: false })
     }
 
-    /// Whether the cubes already show `key`.
-    pub fn show(&self, key: &ShadowKey) -> bool {
-        self.drawn.as_ref() == Some(key)
+    /// Whether `layer` already shows `key`.
+    pub fn holds(&self, layer: u32, key: &FaceKey) -> bool {
+        self.drawn[layer as usize].as_ref() == Some(key)
     }
 
-    /// Records that the cubes were drawn for `key` (`Some`, once the drawing finished) or that what they hold
-    /// is unknown (`None`: before drawing, or after the shaders changed).
-    pub fn set_drawn(&mut self, key: Option<ShadowKey>) {
-        self.drawn = key;
+    /// Whether the layers still need their first layout transition.
+    pub fn need_layout(&self) -> bool {
+        !self.laid_out
     }
+
+    /// Records what the faces just drawn hold (`Some`, once the drawing finished), or forgets them all (the
+    /// drawing failed, or the shaders changed).
+    pub fn set_drawn(&mut self, drawn: Option<&[(u32, FaceKey)]>) {
+        match drawn {
+            Some(faces) => {
+                for (layer, key) in faces {
+                    self.drawn[*layer as usize] = Some(key.clone());
+                }
+                self.laid_out = true;
+            }
+            None => self.drawn.iter_mut().for_each(|face| *face = None),
+        }
+    }
+}
+
+/// The faces of the cube of `light` that the image of `scene` may read: [`faces_seen`] with the margin its
+/// lookups need. The shader counts a lookup within 1e-3 of a face's edge as one that may read the next face
+/// (shading.glsl's SEEN_FACES_TIE, where rounding may pick either): twice that covers it. PCF also looks up
+/// to 1.75 texels beside the point's own direction (4 texels cover it).
+pub fn faces_read_by(scene: &Scene, light: Vec3) -> [bool; 6] {
+    let tie = 2e-3;
+    let margin = match scene.image.shadow_filter {
+        ShadowFilter::Hard => tie,
+        ShadowFilter::Pcf => tie + 8.0 / f64::from(scene.image.shadow_map_size),
+    };
+    faces_seen(&scene.camera, scene.image.width, scene.image.height, light, margin)
+}
+
+/// Which faces of a cube centred on `light` hold the distance of a point the camera can see: those whose
+/// pyramid (widened by `margin`, in units of the face's half-width, for lookups beside the point's own
+/// direction) meets the camera's view frustum, taken out to where the forward pass stops shading (1e7
+/// units from the origin; shaders/common/scene.glsl's world_point). A face no visible point needs is never
+/// read, so it is not drawn: Figure 1's light, behind the camera, needs only its +z face.
+pub fn faces_seen(camera: &Camera, width: u32, height: u32, light: Vec3, margin: f64) -> [bool; 6] {
+    use glam::DVec3;
+    let rays = PixelRays::new(camera, width, height);
+    let eye = camera.position.as_dvec3();
+    let (w, h) = (f64::from(width), f64::from(height));
+    let corner =
+        |x: f64, y: f64| (rays.corner.as_dvec3() + x * rays.per_x.as_dvec3() + y * rays.per_y.as_dvec3()).normalize();
+    let corners = [corner(0.0, 0.0), corner(w, 0.0), corner(w, h), corner(0.0, h)];
+    let forward = (camera.look_at - camera.position).as_dvec3().normalize();
+    // The frustum as half-spaces n . x >= d: four sides through the eye, and the far end, past which no
+    // point is shaded. (The near plane only removes points, so leaving it out keeps the test conservative.)
+    let far = 2.0e7 + 2.0 * eye.length();
+    let centre = (corners[0] + corners[2]) * 0.5;
+    let mut planes: Vec<(DVec3, f64)> = (0..4)
+        .map(|i| {
+            let n = corners[i].cross(corners[(i + 1) % 4]);
+            let n = if n.dot(centre) < 0.0 { -n } else { n };
+            (n, n.dot(eye))
+        })
+        .collect();
+    planes.push((-forward, -forward.dot(eye) - far));
+    let light = light.as_dvec3();
+    std::array::from_fn(|face| {
+        // Face `face` (+x, -x, +y, -y, +z, -z) holds directions d with s * d[axis] >= |d[other]| / (1 + margin).
+        let (axis, sign) = (face / 2, if face % 2 == 0 { 1.0 } else { -1.0 });
+        let mut all = planes.clone();
+        for other in (0..3).filter(|&a| a != axis) {
+            for other_sign in [1.0, -1.0] {
+                let mut n = DVec3::ZERO;
+                n[axis] = sign * (1.0 + margin);
+                n[other] = other_sign;
+                all.push((n, n.dot(light)));
+            }
+        }
+        half_spaces_meet(&all)
+    })
+}
+
+/// Whether the half-spaces n . x >= d meet in a bounded region: it has a vertex, where three of the planes
+/// cross and every half-space holds (with a tolerance, so that a region thin as a plane still counts).
+fn half_spaces_meet(planes: &[(glam::DVec3, f64)]) -> bool {
+    let n = planes.len();
+    let scale = planes.iter().map(|(_, d)| d.abs()).fold(1.0, f64::max);
+    for i in 0..n {
+        for j in i + 1..n {
+            for k in j + 1..n {
+                let m = glam::DMat3::from_cols(planes[i].0, planes[j].0, planes[k].0).transpose();
+                if m.determinant().abs() < 1e-12 {
+                    continue;
+                }
+                let x = m.inverse() * glam::DVec3::new(planes[i].1, planes[j].1, planes[k].1);
+                if planes.iter().all(|(normal, d)| normal.dot(x) >= d - 1e-9 * scale * normal.length()) {
+                    return true;
+                }
+            }
+        }
+    }
+    false
 }
 
 /// The view-projections of the six faces of a cube centred on `light`, in Vulkan's face order.
@@ -245,5 +323,49 @@ mod tests {
             );
             assert!(ndc.z > 0.0 && ndc.z <= 1.0, "depth {}", ndc.z);
         }
+    }
+
+    fn camera(position: Vec3, look_at: Vec3) -> Camera {
+        Camera { position, look_at, up: Vec3::Y, fov_y: 60.0 }
+    }
+
+    #[test]
+    fn a_light_behind_the_camera_needs_only_the_face_ahead() {
+        // Figure 1: the camera at the origin looking down +z, the light 2 units behind it.
+        let seen = faces_seen(&camera(Vec3::ZERO, Vec3::Z), 600, 400, Vec3::new(0.0, 0.0, -2.0), 1e-4);
+        assert_eq!(seen, [false, false, false, false, true, false]);
+        // Above the scene, looking down at it, the light sees the view through its -y face and beside it.
+        let seen = faces_seen(&camera(Vec3::ZERO, Vec3::Z), 600, 400, Vec3::new(0.0, 5.0, 3.0), 1e-4);
+        assert!(seen[3] && seen[4] && !seen[2], "{seen:?}");
+    }
+
+    #[test]
+    fn every_point_the_camera_sees_is_on_a_face_marked_seen() {
+        // Points in the view frustum, from near to very far, each looked up from lights around the scene:
+        // the face the lookup reads (Vulkan's selection) must be one faces_seen keeps.
+        let cam = camera(Vec3::new(0.5, 1.0, -1.0), Vec3::new(0.0, 0.0, 3.0));
+        let rays = PixelRays::new(&cam, 640, 360);
+        let mut state = 12345u32;
+        let mut random = move || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mut culled = 0;
+        for light in
+            [Vec3::new(0.0, 0.0, -2.0), Vec3::new(3.0, 3.0, 1.5), Vec3::new(0.2, 0.9, 0.0), Vec3::new(0.0, 0.0, 40.0)]
+        {
+            let seen = faces_seen(&cam, 640, 360, light, 1e-4);
+            culled += seen.iter().filter(|&&s| !s).count();
+            for _ in 0..20_000 {
+                let d = rays.at(random() * 640.0, random() * 360.0);
+                let t = 1e-3 + 10f32.powf(random() * 7.0);
+                let (face, _, _) = vulkan_face_st(cam.position + t * d - light);
+                assert!(
+                    seen[face],
+                    "light {light}: a point at distance {t} reads face {face}, marked unseen: {seen:?}"
+                );
+            }
+        }
+        assert!(culled >= 4, "only {culled} faces culled");
     }
 }
