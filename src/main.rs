@@ -312,6 +312,7 @@ fn sweep(args: SweepArgs, options: RendererOptions) -> anyhow::Result<()> {
         tiles.push(Tile { scene, label: format!("{short_key} = {value}"), path });
     }
     let mut renderer = Renderer::new(options)?;
+    renderer.prepare(&tiles.iter().map(|tile| &tile.scene).collect::<Vec<_>>())?;
     render_sheet(&mut renderer, &args.param, &tiles, args.columns, &args.output)
 }
 
@@ -328,8 +329,9 @@ fn figures(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
         }
         sheets.push((figure, tiles));
     }
-    // One device, one set of compiled shaders and pipelines for every image.
+    // One device, one set of compiled shaders and pipelines for every image, the pipelines built first.
     let mut renderer = Renderer::new(options)?;
+    renderer.prepare(&sheets.iter().flat_map(|(_, tiles)| tiles.iter().map(|tile| &tile.scene)).collect::<Vec<_>>())?;
     for (figure, tiles) in &sheets {
         let sheet = args.output.join(format!("{}.png", figure.name));
         render_sheet(&mut renderer, figure.title, tiles, 4, &sheet)?;

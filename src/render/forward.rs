@@ -7,7 +7,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gpu_types::GpuMaterial;
-use super::passes::{begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets};
+use super::passes::{
+    begin_rendering, build_in_parallel, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets,
+};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
 use crate::scene::{Object, Scene, ShadowFilter};
@@ -24,20 +26,40 @@ pub struct ForwardPass {
     background: (CompiledShader, CompiledShader),
     layout: Arc<PipelineLayout>,
     pipelines: HashMap<PipelineKey, Pipeline>,
-    /// The background's, per sample count.
-    background_pipelines: HashMap<vk::SampleCountFlags, Pipeline>,
     device: Arc<Device>,
 }
 
-/// What a forward pipeline is built for: the sample count, meshes or exact spheres, and the values of the
-/// fragment shader's specialization constants, in the order of their `constant_id`s: the BRDF (brdf.glsl's
-/// `BRDF_SPECIALIZED`), the shadow filter and the number of lights (shading.glsl's `SHADOW_FILTER` and
-/// `LIGHT_COUNT`), and Cook-Torrance's diffuse lobe (brdf.glsl's `DIFFUSE_SPECIALIZED`).
+/// What a forward pipeline is built for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-struct PipelineKey {
-    samples: vk::SampleCountFlags,
-    exact_sphere: bool,
-    constants: [u32; 4],
+pub enum PipelineKey {
+    /// The background of an image of `samples` (no vertex input, every depth test passing).
+    Background { samples: vk::SampleCountFlags },
+    /// Objects of one kind (meshes, or exact spheres) and the values of the fragment shader's specialization
+    /// constants, in the order of their `constant_id`s: the BRDF (brdf.glsl's `BRDF_SPECIALIZED`), the shadow
+    /// filter and the number of lights (shading.glsl's `SHADOW_FILTER` and `LIGHT_COUNT`), and
+    /// Cook-Torrance's diffuse lobe (brdf.glsl's `DIFFUSE_SPECIALIZED`).
+    Objects { samples: vk::SampleCountFlags, exact_sphere: bool, constants: [u32; 4] },
+}
+
+impl PipelineKey {
+    /// The pipeline that draws `placed` with `object`'s BRDF into the targets of `scene`'s image.
+    pub fn for_object(scene: &Scene, object: &Object, placed: &PlacedMesh) -> Self {
+        let material = GpuMaterial::from(&object.brdf);
+        let shadow_filter = match scene.image.shadow_filter {
+            ShadowFilter::Hard => 0,
+            ShadowFilter::Pcf => 1,
+        };
+        Self::Objects {
+            samples: vk::SampleCountFlags::from_raw(scene.image.samples),
+            exact_sphere: placed.exact_sphere,
+            constants: [material.brdf, shadow_filter, scene.lights.len() as u32, material.diffuse],
+        }
+    }
+
+    /// The background of `scene`'s image.
+    pub fn background(scene: &Scene) -> Self {
+        Self::Background { samples: vk::SampleCountFlags::from_raw(scene.image.samples) }
+    }
 }
 
 impl ForwardPass {
@@ -58,76 +80,55 @@ impl ForwardPass {
             ),
             layout: layout.clone(),
             pipelines: HashMap::new(),
-            background_pipelines: HashMap::new(),
             device: device.clone(),
         })
     }
 
-    /// The pipeline that draws `placed` with `object`'s BRDF into the targets of `scene`'s image.
+    /// The pipelines for `keys`, in order: those not built yet are built first, side by side.
     ///
     /// # Errors
-    /// `Error::Vulkan` if the driver refuses the pipeline.
-    pub fn pipeline(&mut self, scene: &Scene, object: &Object, placed: &PlacedMesh) -> Result<vk::Pipeline> {
-        let material = GpuMaterial::from(&object.brdf);
-        let shadow_filter = match scene.image.shadow_filter {
-            ShadowFilter::Hard => 0,
-            ShadowFilter::Pcf => 1,
-        };
-        let key = PipelineKey {
-            samples: vk::SampleCountFlags::from_raw(scene.image.samples),
-            exact_sphere: placed.exact_sphere,
-            constants: [material.brdf, shadow_filter, scene.lights.len() as u32, material.diffuse],
-        };
-        if let Some(pipeline) = self.pipelines.get(&key) {
-            return Ok(pipeline.raw);
+    /// `Error::Vulkan` if the driver refuses a pipeline.
+    pub fn pipelines(&mut self, keys: &[PipelineKey]) -> Result<Vec<vk::Pipeline>> {
+        let mut missing: Vec<PipelineKey> = keys.iter().filter(|k| !self.pipelines.contains_key(k)).copied().collect();
+        missing.sort_by_key(|k| format!("{k:?}"));
+        missing.dedup();
+        let built = build_in_parallel(&missing, |key| self.build(key))?;
+        for (key, pipeline) in missing.into_iter().zip(built) {
+            log::debug!("built the forward pipeline for {key:?}");
+            self.pipelines.insert(key, pipeline);
         }
-        let (vertex, fragment) = if key.exact_sphere { &self.spheres } else { &self.meshes };
-        let pipeline = build_pipeline(
-            &self.device,
-            &self.layout,
-            (vertex, fragment),
-            (COLOR_FORMAT, key.samples),
-            &key.constants,
-        )?;
-        log::debug!("built the forward pipeline for {key:?}");
-        let raw = pipeline.raw;
-        self.pipelines.insert(key, pipeline);
-        Ok(raw)
+        Ok(keys.iter().map(|key| self.pipelines[key].raw).collect())
+    }
+
+    fn build(&self, key: &PipelineKey) -> Result<Pipeline> {
+        match *key {
+            PipelineKey::Objects { samples, exact_sphere, constants } => {
+                let (vertex, fragment) = if exact_sphere { &self.spheres } else { &self.meshes };
+                build_pipeline(&self.device, &self.layout, (vertex, fragment), (COLOR_FORMAT, samples), &constants)
+            }
+            PipelineKey::Background { samples } => {
+                let (vertex, fragment) = &self.background;
+                let vertex_module = self.device.create_shader_module(&vertex.spirv, vertex.name)?;
+                let fragment_module = self.device.create_shader_module(&fragment.spirv, fragment.name)?;
+                let desc = GraphicsPipelineDesc {
+                    vertex: &vertex_module,
+                    fragment: &fragment_module,
+                    vertex_bindings: &[],
+                    vertex_attributes: &[],
+                    color_formats: &[COLOR_FORMAT],
+                    depth_format: DEPTH_FORMAT,
+                    depth_compare: vk::CompareOp::ALWAYS,
+                    samples,
+                    layout: &self.layout,
+                    fragment_constants: &[],
+                };
+                self.device.create_graphics_pipeline(&desc, &format!("background x{}", samples.as_raw()))
+            }
+        }
     }
 }
 
-impl ForwardPass {
-    /// The background's pipeline for `samples`: no vertex input, every depth test passing.
-    ///
-    /// # Errors
-    /// `Error::Vulkan` if the driver refuses the pipeline.
-    pub fn background_pipeline(&mut self, samples: vk::SampleCountFlags) -> Result<vk::Pipeline> {
-        if let Some(pipeline) = self.background_pipelines.get(&samples) {
-            return Ok(pipeline.raw);
-        }
-        let (vertex, fragment) = &self.background;
-        let vertex_module = self.device.create_shader_module(&vertex.spirv, vertex.name)?;
-        let fragment_module = self.device.create_shader_module(&fragment.spirv, fragment.name)?;
-        let desc = GraphicsPipelineDesc {
-            vertex: &vertex_module,
-            fragment: &fragment_module,
-            vertex_bindings: &[],
-            vertex_attributes: &[],
-            color_formats: &[COLOR_FORMAT],
-            depth_format: DEPTH_FORMAT,
-            depth_compare: vk::CompareOp::ALWAYS,
-            samples,
-            layout: &self.layout,
-            fragment_constants: &[],
-        };
-        let pipeline = self.device.create_graphics_pipeline(&desc, &format!("background x{}", samples.as_raw()))?;
-        let raw = pipeline.raw;
-        self.background_pipelines.insert(samples, pipeline);
-        Ok(raw)
-    }
-}
-
-/// Draws the background (its pipeline from [`ForwardPass::background_pipeline`]) over the whole target:
+/// Draws the background (its pipeline that of [`PipelineKey::Background`]) over the whole target:
 /// the first draw of the forward pass.
 pub fn draw_background(device: &Device, cmd: vk::CommandBuffer, pipeline: vk::Pipeline, targets: &PassTargets) {
     // SAFETY: the command buffer is recording inside the forward pass; the pipeline outlives the submission.
@@ -142,7 +143,7 @@ pub fn draw_background(device: &Device, cmd: vk::CommandBuffer, pipeline: vk::Pi
 
 /// Begins dynamic rendering into the colour target (resolved to `resolved` when multisampled, the float
 /// resolve averaging the samples as the course averages its pixel samples) and the depth target, neither
-/// loaded nor cleared: the background, drawn first ([`ForwardPass::draw_background`]), writes every sample.
+/// loaded nor cleared: the background, drawn first ([`draw_background`]), writes every sample.
 pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets) {
     let mut color = vk::RenderingAttachmentInfo::default()
         .image_view(targets.color)

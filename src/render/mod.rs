@@ -21,7 +21,7 @@ use crate::vulkan::{
     layer_range, layout_transition, whole_image_copy, Access, Device, DeviceInfo, Instance, PipelineLayout, Sampler,
     ShaderCompiler, ShaderSources,
 };
-use forward::{ForwardPass, COLOR_FORMAT, DEPTH_FORMAT};
+use forward::{ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuFrame, GpuObject, GpuPointLight};
 use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
 pub use probe::ProbeCase;
@@ -247,6 +247,21 @@ impl Renderer {
         }
     }
 
+    /// Builds every pipeline the scenes will need, side by side on the cores, before they are rendered one
+    /// after the other (`figures`, `sweep`): rendering builds what it lacks, one pipeline at a time.
+    ///
+    /// # Errors
+    /// `Error::Mesh` for an unloadable OBJ, `Error::Vulkan` if the driver refuses a pipeline.
+    pub fn prepare(&mut self, scenes: &[&Scene]) -> Result<()> {
+        let mut keys = Vec::new();
+        for scene in scenes {
+            let placed = place_objects(scene)?;
+            keys.push(PipelineKey::background(scene));
+            keys.extend(scene.objects.iter().zip(&placed).map(|(object, p)| PipelineKey::for_object(scene, object, p)));
+        }
+        self.forward.pipelines(&keys).map(drop)
+    }
+
     /// Evaluates `brdf_eval` of the GLSL on the GPU for every case (the probe pass), as float32.
     ///
     /// # Errors
@@ -332,13 +347,11 @@ impl Renderer {
             }
             None => SceneData::new(&device, &self.layout, &values, cubes_binding)?,
         };
-        let forward_pipelines = scene
-            .objects
-            .iter()
-            .zip(placed)
-            .map(|(object, p)| self.forward.pipeline(scene, object, p))
-            .collect::<Result<Vec<_>>>()?;
-        let background_pipeline = self.forward.background_pipeline(samples)?;
+        let keys: Vec<PipelineKey> = std::iter::once(PipelineKey::background(scene))
+            .chain(scene.objects.iter().zip(placed).map(|(object, p)| PipelineKey::for_object(scene, object, p)))
+            .collect();
+        let pipelines = self.forward.pipelines(&keys)?;
+        let (background_pipeline, forward_pipelines) = (pipelines[0], &pipelines[1..]);
         let shadow_pipelines: Vec<vk::Pipeline> = placed.iter().map(|p| self.shadow.pipeline(p)).collect();
 
         let frame = FrameRecording {
@@ -349,7 +362,7 @@ impl Renderer {
             meshes: &self.meshes,
             shadow: ShadowDrawing { pipelines: &shadow_pipelines, faces: &faces_to_draw, lay_out: cubes.need_layout() },
             cubes: &cubes,
-            forward: &forward_pipelines,
+            forward: forward_pipelines,
             camera: PassView {
                 viewpoint: scene.camera.position,
                 view_projection: Mat4::from_cols_array_2d(&values.frame.view_projection),

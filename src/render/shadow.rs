@@ -14,7 +14,7 @@ use glam::{Mat4, Vec3};
 
 use super::forward::DEPTH_FORMAT;
 use super::gpu_types::PixelRays;
-use super::passes::{begin_rendering, build_pipeline, CompiledShader, PassTargets};
+use super::passes::{begin_rendering, build_in_parallel, build_pipeline, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
 use crate::scene::{Camera, Scene, ShadowFilter};
@@ -38,11 +38,14 @@ impl ShadowPass {
     /// `Error::Shader` or `Error::Vulkan`.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler, layout: &Arc<PipelineLayout>) -> Result<Self> {
         let vertex = CompiledShader::new(compiler, "shadow.vert")?;
-        let build = |fragment| {
-            let fragment = CompiledShader::new(compiler, fragment)?;
-            build_pipeline(device, layout, (&vertex, &fragment), (DISTANCE_FORMAT, vk::SampleCountFlags::TYPE_1), &[])
-        };
-        Ok(Self { meshes: build("shadow.frag")?, spheres: build("shadow_sphere.frag")? })
+        let fragments =
+            [CompiledShader::new(compiler, "shadow.frag")?, CompiledShader::new(compiler, "shadow_sphere.frag")?];
+        let [meshes, spheres]: [Pipeline; 2] = build_in_parallel(&fragments, |fragment| {
+            build_pipeline(device, layout, (&vertex, fragment), (DISTANCE_FORMAT, vk::SampleCountFlags::TYPE_1), &[])
+        })?
+        .try_into()
+        .unwrap_or_else(|_| unreachable!("one pipeline per fragment shader"));
+        Ok(Self { meshes, spheres })
     }
 
     /// The pipeline that draws `placed`.
