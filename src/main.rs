@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 
 use vk_render::figures::FIGURES;
-use vk_render::output::{write_image, write_png, OutputFormat};
+use vk_render::output::{png_bytes, write_file, write_image, write_png, OutputFormat};
 use vk_render::sheet::contact_sheet;
 use vk_render::vulkan::{list_devices, preferred_device, Instance};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
@@ -239,8 +239,10 @@ fn render(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
     let scene = Scene::load(&args.scene, &overrides)?;
     OutputFormat::for_path(&args.output)?;
     let mut renderer = Renderer::new(options)?;
-    let image = renderer.render(&scene)?;
-    write_image(&image, &scene.image, &args.output)?;
+    match OutputFormat::for_path(&args.output)? {
+        OutputFormat::Png => write_png(&renderer.render_rgb8(&scene)?, &args.output)?,
+        OutputFormat::Exr => write_image(&renderer.render(&scene)?, &scene.image, &args.output)?,
+    }
     log::info!("wrote {}", args.output.display());
     Ok(())
 }
@@ -339,7 +341,8 @@ fn figures(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Renders every tile, then writes each tile and the labelled contact sheet.
+/// Renders every tile, each encoded to PNG on another thread while the next renders, then writes the tiles
+/// and the labelled contact sheet: no file is written unless every tile rendered.
 fn render_sheet(
     renderer: &mut Renderer,
     title: &str,
@@ -347,13 +350,27 @@ fn render_sheet(
     columns: usize,
     sheet_path: &std::path::Path,
 ) -> anyhow::Result<()> {
-    let mut images = Vec::new();
-    for tile in tiles {
-        let hdr = renderer.render(&tile.scene)?;
-        images.push((tile.label.clone(), hdr.to_rgb8(&tile.scene.image)));
-    }
-    for (tile, (_, image)) in tiles.iter().zip(&images) {
-        write_png(image, &tile.path)?;
+    let (images, encoded) = std::thread::scope(|scope| -> anyhow::Result<_> {
+        let (rendered, to_encode) = std::sync::mpsc::channel::<(image::RgbImage, &Tile)>();
+        let encoder = scope.spawn(move || {
+            let mut images = Vec::new();
+            let mut encoded = Vec::new();
+            for (image, tile) in to_encode {
+                encoded.push(png_bytes(&image, &tile.path));
+                images.push((tile.label.clone(), image));
+            }
+            (images, encoded)
+        });
+        for tile in tiles {
+            // The encoder only stops early if this thread is gone: a send cannot fail here.
+            let _ = rendered.send((renderer.render_rgb8(&tile.scene)?, tile));
+        }
+        drop(rendered);
+        Ok(encoder.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+    })?;
+    let encoded = encoded.into_iter().collect::<vk_render::Result<Vec<_>>>()?;
+    for (tile, bytes) in tiles.iter().zip(&encoded) {
+        write_file(&tile.path, bytes)?;
     }
     write_png(&contact_sheet(Some(title), &images, columns), sheet_path)?;
     println!("{}", sheet_path.display());

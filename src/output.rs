@@ -39,15 +39,26 @@ impl HdrImage {
     }
 }
 
-/// The order of the bytes of a 4-byte texel (a window's swapchain format).
+/// How encoded pixels are laid out: 3 bytes (RGB, a PNG's), or 4 with alpha 255 in a window's order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TexelOrder {
+    Rgb,
     Rgba,
     Bgra,
 }
 
+impl TexelOrder {
+    /// Bytes a pixel.
+    pub fn bytes(self) -> usize {
+        match self {
+            TexelOrder::Rgb => 3,
+            TexelOrder::Rgba | TexelOrder::Bgra => 4,
+        }
+    }
+}
+
 /// Writes `linear` (four native-endian f32 a pixel, alpha unread) after the whole output transform into
-/// `texels` (4 bytes a pixel in `order`, alpha 255): per channel exactly what [`HdrImage::to_rgb8`] computes.
+/// `texels`, laid out as `order` says: per channel exactly what [`HdrImage::to_rgb8`] computes.
 pub fn encode_texels(linear: &[u8], settings: &ImageSettings, order: TexelOrder, texels: &mut [u8]) {
     let exposure = settings.exposure;
     // One loop per curve and encoding, so that each is compiled with its transform inlined (the preview
@@ -66,15 +77,17 @@ pub fn encode_texels(linear: &[u8], settings: &ImageSettings, order: TexelOrder,
 #[inline(always)]
 fn encode_each(linear: &[u8], order: TexelOrder, texels: &mut [u8], channel: impl Fn(f32) -> u8) {
     let (red, blue) = match order {
-        TexelOrder::Rgba => (0, 2),
+        TexelOrder::Rgb | TexelOrder::Rgba => (0, 2),
         TexelOrder::Bgra => (2, 0),
     };
     let value = |bytes: &[u8]| f32::from_ne_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
-    for (pixel, texel) in linear.chunks_exact(16).zip(texels.chunks_exact_mut(4)) {
+    for (pixel, texel) in linear.chunks_exact(16).zip(texels.chunks_exact_mut(order.bytes())) {
         texel[red] = channel(value(&pixel[0..4]));
         texel[1] = channel(value(&pixel[4..8]));
         texel[blue] = channel(value(&pixel[8..12]));
-        texel[3] = 255;
+        if let Some(alpha) = texel.get_mut(3) {
+            *alpha = 255;
+        }
     }
 }
 
@@ -153,7 +166,15 @@ pub fn write_image(hdr: &HdrImage, settings: &ImageSettings, path: &Path) -> Res
 /// # Errors
 /// `Error::Output` naming the path when the file cannot be encoded or written.
 pub fn write_png(image: &image::RgbImage, path: &Path) -> Result<()> {
-    write_encoded(path, |bytes| image.write_to(bytes, image::ImageFormat::Png))
+    write_file(path, &png_bytes(image, path)?)
+}
+
+/// An 8-bit image encoded as a PNG file's bytes, to be written to `path` (named in the error).
+///
+/// # Errors
+/// `Error::Output` naming the path when the image cannot be encoded.
+pub fn png_bytes(image: &image::RgbImage, path: &Path) -> Result<Vec<u8>> {
+    encoded(path, |bytes| image.write_to(bytes, image::ImageFormat::Png))
 }
 
 /// Encodes into memory, then writes a temporary file beside `path` and renames it into place.
@@ -161,11 +182,28 @@ fn write_encoded(
     path: &Path,
     encode: impl FnOnce(&mut std::io::Cursor<Vec<u8>>) -> image::ImageResult<()>,
 ) -> Result<()> {
-    let error = |message: String| Error::Output { path: path.to_path_buf(), message };
+    write_file(path, &encoded(path, encode)?)
+}
+
+fn encoded(
+    path: &Path,
+    encode: impl FnOnce(&mut std::io::Cursor<Vec<u8>>) -> image::ImageResult<()>,
+) -> Result<Vec<u8>> {
     let mut bytes = std::io::Cursor::new(Vec::new());
-    encode(&mut bytes).map_err(|e| error(format!("cannot encode the image: {e}")))?;
+    encode(&mut bytes)
+        .map_err(|e| Error::Output { path: path.to_path_buf(), message: format!("cannot encode the image: {e}") })?;
+    Ok(bytes.into_inner())
+}
+
+/// Writes `bytes` to a temporary file beside `path` and renames it into place, so that a failure never
+/// leaves a partial file behind.
+///
+/// # Errors
+/// `Error::Output` naming the path when the file cannot be written.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+    let error = |message: String| Error::Output { path: path.to_path_buf(), message };
     let temporary = temporary_path(path);
-    let written = std::fs::write(&temporary, bytes.get_ref()).and_then(|()| std::fs::rename(&temporary, path));
+    let written = std::fs::write(&temporary, bytes).and_then(|()| std::fs::rename(&temporary, path));
     if let Err(e) = written {
         let _ = std::fs::remove_file(&temporary);
         return Err(error(format!("cannot write the file: {e}")));
@@ -261,6 +299,9 @@ mod tests {
                         assert_eq!([texel[r], texel[1], texel[b], texel[3]], [p.0[0], p.0[1], p.0[2], 255]);
                     }
                 }
+                let mut texels = vec![0; 300 * 3];
+                encode_texels(&linear, &settings, TexelOrder::Rgb, &mut texels);
+                assert_eq!(texels, rgb.into_raw());
             }
         }
     }

@@ -219,19 +219,31 @@ impl Renderer {
         Ok(HdrImage { width, height, pixels: read_vec3s(bytes, BYTES_PER_PIXEL as usize) })
     }
 
-    /// Renders the scene and writes it after the whole output transform into `texels`, 4 bytes a pixel in
-    /// the order `order` names, alpha 255: what [`HdrImage::to_rgb8`] of [`Renderer::render`]'s image holds,
-    /// byte for byte, without the image in between (the preview's frames).
+    /// Renders the scene and writes it after the whole output transform into `texels`, laid out as `order`
+    /// says: what [`HdrImage::to_rgb8`] of [`Renderer::render`]'s image holds, byte for byte, without the
+    /// image in between (the preview's frames, PNGs).
     ///
     /// # Errors
     /// As [`Renderer::render`]; `Error::Vulkan(ERROR_MEMORY_MAP_FAILED)` when `texels` has the wrong size.
     pub fn render_texels(&mut self, scene: &Scene, order: TexelOrder, texels: &mut [u8]) -> Result<()> {
         let bytes = self.draw_and_read_back(scene)?;
-        if texels.len() / 4 != bytes.len() / BYTES_PER_PIXEL as usize {
+        if texels.len() / order.bytes() != bytes.len() / BYTES_PER_PIXEL as usize {
             return Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED));
         }
         encode_texels(bytes, &scene.image, order, texels);
         Ok(())
+    }
+
+    /// Renders the scene to 8-bit RGB after the whole output transform (a PNG's pixels): what
+    /// [`HdrImage::to_rgb8`] of [`Renderer::render`]'s image holds.
+    ///
+    /// # Errors
+    /// As [`Renderer::render`].
+    pub fn render_rgb8(&mut self, scene: &Scene) -> Result<image::RgbImage> {
+        let (width, height) = (scene.image.width, scene.image.height);
+        let mut pixels = vec![0; width as usize * height as usize * 3];
+        self.render_texels(scene, TexelOrder::Rgb, &mut pixels)?;
+        image::RgbImage::from_raw(width, height, pixels).ok_or(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED))
     }
 
     /// Checks the scene against the device, draws it and returns the read-back buffer's bytes: four floats a
