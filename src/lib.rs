@@ -9,6 +9,7 @@ pub mod brdf;
 pub mod compare;
 pub mod error;
 pub mod figures;
+pub mod files;
 pub mod mesh;
 pub mod output;
 #[cfg(feature = "preview")]

@@ -84,9 +84,9 @@ struct SweepArgs {
     #[arg(short, long, value_name = "SHEET")]
     output: PathBuf,
 
-    /// Tiles per row of the sheet.
-    #[arg(long, default_value_t = 4)]
-    columns: usize,
+    /// Tiles per row of the sheet (1 to 64).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    columns: u32,
 
     #[command(flatten)]
     image: ImageArgs,
@@ -281,6 +281,9 @@ fn reference(args: ReferenceArgs) -> anyhow::Result<()> {
         if OutputFormat::for_path(ids)? != OutputFormat::Png {
             anyhow::bail!("{}: the object-id map is a .png image", ids.display());
         }
+        if names_the_same_file(ids, &args.output) {
+            anyhow::bail!("--ids {}: the same file as -o: give the object-id map a file of its own", ids.display());
+        }
     }
     let traced = vk_render::reference::render(&scene)?;
     write_image(&traced.image, &scene.image, &args.output)?;
@@ -315,7 +318,7 @@ fn sweep(args: SweepArgs, options: RendererOptions) -> anyhow::Result<()> {
     }
     let mut renderer = Renderer::new(options)?;
     renderer.prepare(&tiles.iter().map(|tile| &tile.scene).collect::<Vec<_>>())?;
-    render_sheet(&mut renderer, &args.param, &tiles, args.columns, &args.output)
+    render_sheet(&mut renderer, &args.param, &tiles, args.columns as usize, &args.output)
 }
 
 fn figures(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
@@ -375,6 +378,15 @@ fn render_sheet(
     write_png(&contact_sheet(Some(title), &images, columns), sheet_path)?;
     println!("{}", sheet_path.display());
     Ok(())
+}
+
+/// Whether two output paths name the same file: their folders (which exist) resolved, and the same name.
+fn names_the_same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    let resolved = |path: &std::path::Path| {
+        let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        folder.canonicalize().ok().map(|folder| folder.join(path.file_name().unwrap_or_default()))
+    };
+    resolved(a).is_some() && resolved(a) == resolved(b)
 }
 
 /// A value as part of a file name: anything but letters, digits, '.', '-' and '_' becomes '_'.

@@ -8,8 +8,25 @@ use std::process::{Command, Output};
 
 use common::{root, temp_dir};
 
+/// Runs vk-render with validation, failing the test if it has not exited within two minutes (a hang must
+/// fail a test, not stall it).
 fn vk_render(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vk-render")).arg("--validate").args(args).output().expect("run vk-render")
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
+        .arg("--validate")
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run vk-render");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while child.try_wait().expect("wait for vk-render").is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("vk-render {args:?} hung: killed after two minutes");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("vk-render's output")
 }
 
 /// A scene file in `folder` made from Figure 1 with `edit` applied to its text.
@@ -147,6 +164,20 @@ fn wrong_type_names_the_key_and_value() {
 }
 
 #[test]
+fn a_vector_of_another_length_is_refused_not_truncated() {
+    for (from, to) in [
+        ("center = [0.0, 0.0, 3.0]", "center = [0.0, 0.0, 3.0, 9.0]"),
+        ("center = [0.0, 0.0, 3.0]", "center = [0.0, 0.0, 3.0, \"junk\"]"),
+        ("normal = [0.0, 1.0, 0.0]", "normal = [0, 1, 0, 9, 9]"),
+        ("position = [0.0, 0.0, 0.0]", "position = [0, 0, 0, 7]"),
+        ("position = [0.0, 0.0, -2.0]", "position = [0.0, -2.0]"),
+        ("background = [0.5, 0.5, 0.5]", "background = [0.5, 0.5, 0.5, 1.0]"),
+    ] {
+        fails_after_edit(from, to, &["scene.toml", to, "three numbers"]);
+    }
+}
+
+#[test]
 fn undefined_material() {
     fails_after_edit(
         "material = \"grey\"",
@@ -247,6 +278,68 @@ fn mesh_fails(name: &'static str, contents: Option<&str>, why: &str) {
         t.replacen("shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0", &mesh, 1)
     });
     fails_with(&scene, &[], &["scene.toml", "object.0.path", name, why]);
+}
+
+#[test]
+fn a_fifo_or_a_device_as_the_scene_is_refused_without_waiting() {
+    let folder = temp_dir();
+    let fifo = folder.path().join("scene.toml");
+    assert!(Command::new("mkfifo").arg(&fifo).status().expect("mkfifo").success());
+    fails_with(&fifo, &[], &["scene.toml", "is a FIFO (named pipe), not a regular file"]);
+    let output = vk_render(&["render", "/dev/zero", "-o", folder.path().join("out.png").to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("/dev/zero is a device, not a regular file"), "{stderr}");
+}
+
+#[test]
+fn a_device_or_a_folder_as_the_obj_is_refused_by_name() {
+    mesh_fails("/dev/zero", None, "is a device, not a regular file");
+    let folder = temp_dir();
+    std::fs::create_dir(folder.path().join("meshes.obj")).unwrap();
+    let scene = scene_file(folder.path(), |t| {
+        t.replacen(
+            "shape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0",
+            "shape = \"mesh\"\npath = \"meshes.obj\"",
+            1,
+        )
+    });
+    fails_with(&scene, &[], &["object.0.path", "meshes.obj", "is a folder, not a regular file"]);
+}
+
+#[test]
+fn a_scene_file_over_16_mib_is_refused_by_size() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), |t| format!("{t}\n{}", "# padding\n".repeat(1_700_000)));
+    fails_with(&scene, &[], &["scene.toml", "over the 16 MiB a scene file may hold"]);
+}
+
+#[test]
+fn zero_columns_and_an_id_map_over_the_image_are_refused() {
+    let folder = temp_dir();
+    let sheet = folder.path().join("sheet.png");
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    let fig1 = fig1.to_str().unwrap();
+    let output = vk_render(&[
+        "sweep",
+        fig1,
+        "--param",
+        "material.grey.kd",
+        "--values",
+        "0.1",
+        "--columns",
+        "0",
+        "-o",
+        sheet.to_str().unwrap(),
+    ]);
+    assert!(!output.status.success() && String::from_utf8_lossy(&output.stderr).contains("--columns"));
+    let image = folder.path().join("traced.png");
+    let same = folder.path().join("./traced.png");
+    let output = vk_render(&["reference", fig1, "-o", image.to_str().unwrap(), "--ids", same.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("the same file as -o"), "{stderr}");
+    assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0, "a file was written");
 }
 
 #[test]

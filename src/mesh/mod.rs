@@ -194,13 +194,14 @@ pub fn infinite_plane(point: Vec3, normal: Vec3) -> Mesh {
 /// A message saying why the file could not be read or holds no usable triangles.
 pub fn load_obj(path: &Path) -> Result<Mesh, String> {
     let options = tobj::LoadOptions { single_index: true, triangulate: true, ignore_points: true, ignore_lines: true };
-    let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| match e {
-        tobj::LoadError::OpenFileFailed => match std::fs::metadata(path) {
-            Err(io) => cannot_open(path, &io),
-            Ok(_) => format!("cannot open {}", path.display()),
-        },
-        other => format!("{} is not a valid OBJ file: {other}", path.display()),
-    })?;
+    let bytes = match std::fs::metadata(path) {
+        Err(io) => return Err(cannot_open(path, &io)),
+        Ok(_) => crate::files::read_regular(path, "OBJ file", crate::files::MAX_MESH_BYTES)?,
+    };
+    // Material libraries are not read: the scene gives every object its material.
+    let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
+    let (models, _materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, no_materials)
+        .map_err(|e| format!("{} is not a valid OBJ file: {e}", path.display()))?;
     let mut mesh = Mesh::default();
     for model in models {
         let m = model.mesh;
@@ -378,5 +379,14 @@ mod tests {
         let mut open = uv_sphere(16, 8);
         open.indices.truncate(open.indices.len() - 3);
         assert!(!open.is_closed_outward());
+    }
+
+    #[test]
+    fn an_obj_naming_a_material_library_loads_without_it() {
+        let path = std::env::temp_dir().join(format!("vk-render-mtl-{}.obj", std::process::id()));
+        std::fs::write(&path, "mtllib nowhere.mtl\nusemtl gold\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let mesh = load_obj(&path);
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(mesh.unwrap().triangle_count(), 1);
     }
 }

@@ -60,15 +60,15 @@ impl Default for ImageSection {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct CameraSection {
-    pub position: [f32; 3],
-    pub look_at: [f32; 3],
-    pub up: [f32; 3],
+    pub position: Xyz,
+    pub look_at: Xyz,
+    pub up: Xyz,
     pub fov_y: f32,
 }
 
 impl Default for CameraSection {
     fn default() -> Self {
-        Self { position: [0.0, 0.0, 0.0], look_at: [0.0, 0.0, 1.0], up: [0.0, 1.0, 0.0], fov_y: 60.0 }
+        Self { position: Xyz([0.0, 0.0, 0.0]), look_at: Xyz([0.0, 0.0, 1.0]), up: Xyz([0.0, 1.0, 0.0]), fov_y: 60.0 }
     }
 }
 
@@ -78,7 +78,7 @@ impl Default for CameraSection {
 pub struct LightSection {
     #[serde(rename = "type", default = "default_light_type")]
     pub kind: String,
-    pub position: [f32; 3],
+    pub position: Xyz,
     #[serde(default = "white")]
     pub color: Rgb,
     #[serde(default = "one")]
@@ -121,14 +121,55 @@ pub struct MaterialSection {
 pub struct ObjectSection {
     pub shape: String,
     pub material: String,
-    pub center: Option<[f32; 3]>,
+    pub center: Option<Xyz>,
     pub radius: Option<f32>,
-    pub point: Option<[f32; 3]>,
-    pub normal: Option<[f32; 3]>,
+    pub point: Option<Xyz>,
+    pub normal: Option<Xyz>,
     pub path: Option<String>,
     pub scale: Option<f32>,
-    pub rotate: Option<[f32; 3]>,
-    pub translate: Option<[f32; 3]>,
+    pub rotate: Option<Xyz>,
+    pub translate: Option<Xyz>,
+}
+
+/// A point or a direction: exactly three numbers `[x, y, z]`, a list of another length being an error
+/// (not truncated).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Xyz(pub [f32; 3]);
+
+impl<'de> Deserialize<'de> for Xyz {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct XyzVisitor;
+
+        impl<'de> Visitor<'de> for XyzVisitor {
+            type Value = Xyz;
+
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a list of three numbers [x, y, z]")
+            }
+
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Xyz, A::Error> {
+                three_numbers(seq, &self).map(Xyz)
+            }
+        }
+
+        deserializer.deserialize_seq(XyzVisitor)
+    }
+}
+
+/// Exactly three numbers from a list, `expected` naming what the list is in errors.
+fn three_numbers<'de, A: SeqAccess<'de>>(mut seq: A, expected: &dyn de::Expected) -> Result<[f32; 3], A::Error> {
+    let mut values = [0.0f32; 3];
+    for (i, value) in values.iter_mut().enumerate() {
+        *value = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, expected))?;
+    }
+    let mut count = 3;
+    while seq.next_element::<de::IgnoredAny>()?.is_some() {
+        count += 1;
+    }
+    if count > 3 {
+        return Err(de::Error::invalid_length(count, expected));
+    }
+    Ok(values)
 }
 
 /// A linear RGB colour: `[r, g, b]`, or a single number for a grey.
@@ -154,15 +195,8 @@ impl<'de> Deserialize<'de> for Rgb {
                 Ok(Rgb([v as f32; 3]))
             }
 
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Rgb, A::Error> {
-                let mut rgb = [0.0f32; 3];
-                for (i, channel) in rgb.iter_mut().enumerate() {
-                    *channel = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, &self))?;
-                }
-                if seq.next_element::<de::IgnoredAny>()?.is_some() {
-                    return Err(de::Error::invalid_length(4, &self));
-                }
-                Ok(Rgb(rgb))
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Rgb, A::Error> {
+                three_numbers(seq, &self).map(Rgb)
             }
         }
 

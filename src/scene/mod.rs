@@ -161,10 +161,8 @@ impl Scene {
     /// an unreadable file, a TOML syntax error (with its line), an unknown key, a wrong type, a value out of
     /// range, an undefined material or an unknown brdf; an override whose path the format does not have.
     pub fn load(path: &Path, overrides: &[Override]) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Scene {
-            file: path.to_path_buf(),
-            message: format!("cannot read the scene file: {e}"),
-        })?;
+        let text = crate::files::read_regular_text(path, "scene file", crate::files::MAX_SCENE_BYTES)
+            .map_err(|message| Error::Scene { file: path.to_path_buf(), message })?;
         Self::parse(&text, path, overrides)
     }
 

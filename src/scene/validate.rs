@@ -83,16 +83,22 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
 }
 
 fn camera(s: &CameraSection) -> Check<Camera> {
-    let position = finite("camera.position", s.position)?;
-    let look_at = finite("camera.look_at", s.look_at)?;
-    let up = nonzero("camera.up", s.up)?;
+    let position = finite("camera.position", s.position.0)?;
+    let look_at = finite("camera.look_at", s.look_at.0)?;
+    let up = nonzero("camera.up", s.up.0)?;
     if position == look_at {
-        return Err(format!("camera.look_at = {:?}: equal to camera.position, so the camera looks nowhere", s.look_at));
+        return Err(format!(
+            "camera.look_at = {:?}: equal to camera.position, so the camera looks nowhere",
+            s.look_at.0
+        ));
     }
     if (look_at - position).cross(up).length_squared()
         <= 1e-12 * (look_at - position).length_squared() * up.length_squared()
     {
-        return Err(format!("camera.up = {:?}: parallel to the view direction, so the image has no defined up", s.up));
+        return Err(format!(
+            "camera.up = {:?}: parallel to the view direction, so the image has no defined up",
+            s.up.0
+        ));
     }
     if !(s.fov_y > 0.0 && s.fov_y < 180.0) {
         return Err(format!("camera.fov_y = {}: must be between 0 and 180 degrees (exclusive)", s.fov_y));
@@ -106,7 +112,7 @@ fn light(index: usize, s: &LightSection) -> Check<PointLight> {
         return Err(format!("{} = {:?}: unknown light type (expected \"point\")", key("type"), s.kind));
     }
     Ok(PointLight {
-        position: finite(&key("position"), s.position)?,
+        position: finite(&key("position"), s.position.0)?,
         color: non_negative(&key("color"), s.color)?,
         power: at_least(&key("power"), s.power, 0.0)?,
         shadows: s.shadows,
@@ -223,14 +229,14 @@ fn object(index: usize, s: &ObjectSection, materials: &BTreeMap<String, Brdf>, s
     let missing = |name: &str| format!("{}: missing, and a {} needs it", key(name), s.shape);
     let shape = match s.shape.as_str() {
         "sphere" => {
-            let center = finite(&key("center"), s.center.ok_or_else(|| missing("center"))?)?;
+            let center = finite(&key("center"), s.center.ok_or_else(|| missing("center"))?.0)?;
             let radius = s.radius.ok_or_else(|| missing("radius"))?;
             positive(&key("radius"), radius)?;
             Shape::Sphere { center, radius }
         }
         "plane" => {
-            let point = finite(&key("point"), s.point.ok_or_else(|| missing("point"))?)?;
-            let normal = nonzero(&key("normal"), s.normal.ok_or_else(|| missing("normal"))?)?;
+            let point = finite(&key("point"), s.point.ok_or_else(|| missing("point"))?.0)?;
+            let normal = nonzero(&key("normal"), s.normal.ok_or_else(|| missing("normal"))?.0)?;
             Shape::Plane { point, normal: normal.normalize() }
         }
         _ => {
@@ -240,8 +246,8 @@ fn object(index: usize, s: &ObjectSection, materials: &BTreeMap<String, Brdf>, s
             Shape::Mesh {
                 path: resolve_mesh_path(path, scene_path),
                 scale,
-                rotate: finite(&key("rotate"), s.rotate.unwrap_or([0.0; 3]))?,
-                translate: finite(&key("translate"), s.translate.unwrap_or([0.0; 3]))?,
+                rotate: finite(&key("rotate"), s.rotate.map_or([0.0; 3], |r| r.0))?,
+                translate: finite(&key("translate"), s.translate.map_or([0.0; 3], |t| t.0))?,
             }
         }
     };

@@ -54,7 +54,9 @@ impl ShaderSources {
                     walk(root, &path, files)?;
                 } else {
                     let relative = path.strip_prefix(root).unwrap_or(&path).to_string_lossy().replace('\\', "/");
-                    files.insert(relative, std::fs::read_to_string(&path)?);
+                    let text = crate::files::read_regular_text(&path, "shader", crate::files::MAX_SHADER_BYTES)
+                        .map_err(std::io::Error::other)?;
+                    files.insert(relative, text);
                 }
             }
             Ok(())
