@@ -238,6 +238,7 @@ fn render(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
     // Everything that can be checked without a device is checked before one is opened.
     let scene = Scene::load(&args.scene, &overrides)?;
     OutputFormat::for_path(&args.output)?;
+    warn(&scene);
     let mut renderer = Renderer::new(options)?;
     match OutputFormat::for_path(&args.output)? {
         OutputFormat::Png => write_png(&renderer.render_rgb8(&scene)?, &args.output)?,
@@ -307,6 +308,14 @@ fn sweep(args: SweepArgs, options: RendererOptions) -> anyhow::Result<()> {
     let stem = args.output.file_stem().unwrap_or_default().to_string_lossy().into_owned();
     let short_key = args.param.rsplit('.').next().unwrap_or(&args.param).to_string();
     // Every scene is loaded and checked before anything is rendered or written.
+    if let Some(empty) = args.values.iter().position(|value| value.trim().is_empty()) {
+        anyhow::bail!(
+            "--values {:?}: value {} of {} is empty (give the values separated by commas: 0,0.2,0.4)",
+            args.values.join(","),
+            empty + 1,
+            args.values.len()
+        );
+    }
     let mut tiles = Vec::new();
     for value in &args.values {
         let value = value.trim();
@@ -315,6 +324,9 @@ fn sweep(args: SweepArgs, options: RendererOptions) -> anyhow::Result<()> {
         let scene = Scene::load(&args.scene, &overrides)?;
         let path = args.output.with_file_name(format!("{stem}-{}.png", file_safe(value)));
         tiles.push(Tile { scene, label: format!("{short_key} = {value}"), path });
+    }
+    if let Some(first) = tiles.first() {
+        warn(&first.scene);
     }
     let mut renderer = Renderer::new(options)?;
     renderer.prepare(&tiles.iter().map(|tile| &tile.scene).collect::<Vec<_>>())?;
@@ -378,6 +390,13 @@ fn render_sheet(
     write_png(&contact_sheet(Some(title), &images, columns), sheet_path)?;
     println!("{}", sheet_path.display());
     Ok(())
+}
+
+/// Prints the scene's warnings on standard error.
+fn warn(scene: &Scene) {
+    for warning in scene.warnings() {
+        eprintln!("warning: {warning}");
+    }
 }
 
 /// Whether two output paths name the same file: their folders (which exist) resolved, and the same name.

@@ -246,15 +246,80 @@ fn look_at_equal_to_position() {
 }
 
 #[test]
+fn look_at_a_hair_from_position_blames_look_at() {
+    fails_after_edit(
+        "look_at = [0.0, 0.0, 1.0]",
+        "look_at = [0.0, 0.0, 1e-9]",
+        &["scene.toml", "camera.look_at = [0.0, 0.0, 1e-9]", "from camera.position"],
+    );
+}
+
+#[test]
 fn zero_width() {
-    fails_after_edit("width = 600", "width = 0", &["scene.toml", "image.width = 0", "at least 1"]);
+    fails_after_edit("width = 600", "width = 0", &["scene.toml", "image.width = 0", "from 1 to 65536"]);
+}
+
+#[test]
+fn a_huge_width_names_the_real_bound() {
+    fails_after_edit(
+        "width = 600",
+        "width = 1099511627776",
+        &["scene.toml", "image.width = 1099511627776", "from 1 to 65536", "device's own limit"],
+    );
+}
+
+#[test]
+fn a_scene_without_objects_renders_its_background_and_says_so() {
+    let folder = temp_dir();
+    let scene = folder.path().join("empty.toml");
+    std::fs::write(&scene, "# nothing but a comment\n").unwrap();
+    let out = folder.path().join("out.png");
+    let output = vk_render(&["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning: ") && stderr.contains("empty.toml") && stderr.contains("no [[object]]"),
+        "{stderr}"
+    );
+    let lightless = folder.path().join("lightless.toml");
+    let text = "[material.m]\nbrdf = \"lambert\"\nkd = 0.5\n[[object]]\nshape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0\nmaterial = \"m\"\n";
+    std::fs::write(&lightless, text).unwrap();
+    let output = vk_render(&["render", lightless.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        output.status.success() && stderr.contains("lightless.toml") && stderr.contains("no [[light]]"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn empty_sweep_values_are_named_as_typed() {
+    let folder = temp_dir();
+    let sheet = folder.path().join("sheet.png");
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    for values in ["", ",,,", "0.1,,0.2", "0.1,0.2,"] {
+        let output = vk_render(&[
+            "sweep",
+            fig1.to_str().unwrap(),
+            "--param",
+            "material.grey.kd",
+            "--values",
+            values,
+            "-o",
+            sheet.to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "{values:?}: {stderr}");
+        assert!(stderr.contains("--values") && !stderr.contains("--set"), "{values:?}: {stderr}");
+        assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0, "{values:?}: a file was written");
+    }
 }
 
 #[test]
 fn height_above_the_device_limit() {
     let folder = temp_dir();
     let scene = scene_file(folder.path(), |t| t.to_string());
-    fails_with(&scene, &["--height", "1000000"], &["scene.toml", "image.height = 1000000", "above the limit"]);
+    fails_with(&scene, &["--height", "40000"], &["scene.toml", "image.height = 40000", "above the limit"]);
 }
 
 #[test]

@@ -19,6 +19,10 @@ pub use overrides::Override;
 /// edge on the course's plane (3 to 10 units from the light) is placed within 5 to 15 mm.
 pub const DEFAULT_SHADOW_MAP_SIZE: u32 = 1024;
 
+/// The largest image side a scene may ask for, in pixels (no Vulkan device renders more; each device's own,
+/// lower limit is checked when it renders).
+pub const MAX_IMAGE_SIDE: u32 = 65536;
+
 /// The most lights a scene may hold, each with its own shadow cube.
 pub const MAX_LIGHTS: usize = 16;
 
@@ -164,6 +168,20 @@ impl Scene {
         let text = crate::files::read_regular_text(path, "scene file", crate::files::MAX_SCENE_BYTES)
             .map_err(|message| Error::Scene { file: path.to_path_buf(), message })?;
         Self::parse(&text, path, overrides)
+    }
+
+    /// What is legal but probably not meant, one line each naming the file: no object (the image is the
+    /// background alone), no light (every object is black).
+    pub fn warnings(&self) -> Vec<String> {
+        let file = self.source.display();
+        let mut warnings = Vec::new();
+        if self.objects.is_empty() {
+            warnings.push(format!("{file}: the scene has no [[object]]: the image is its background alone"));
+        }
+        if self.lights.is_empty() && !self.objects.is_empty() {
+            warnings.push(format!("{file}: the scene has no [[light]]: every object is black"));
+        }
+        warnings
     }
 
     /// Parses scene text as if read from `path` (used for messages and relative mesh paths).

@@ -8,7 +8,8 @@ use glam::Vec3;
 
 use super::file::{CameraSection, ImageSection, LightSection, MaterialSection, ObjectSection, Rgb, SceneFile};
 use super::{
-    Camera, Encoding, ImageSettings, Object, PointLight, Scene, ShadowFilter, Shape, Tonemap, BUNNY_PATH, MAX_LIGHTS,
+    Camera, Encoding, ImageSettings, Object, PointLight, Scene, ShadowFilter, Shape, Tonemap, BUNNY_PATH,
+    MAX_IMAGE_SIDE, MAX_LIGHTS,
 };
 use crate::brdf::{Brdf, DiffuseModel};
 
@@ -37,10 +38,12 @@ pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
 
 fn image(s: &ImageSection) -> Check<ImageSettings> {
     let size = |key: &str, value: i64| -> Check<u32> {
-        u32::try_from(value)
-            .ok()
-            .filter(|&v| v >= 1)
-            .ok_or_else(|| format!("image.{key} = {value}: must be a whole number of pixels, at least 1"))
+        u32::try_from(value).ok().filter(|v| (1..=MAX_IMAGE_SIDE).contains(v)).ok_or_else(|| {
+            format!(
+                "image.{key} = {value}: must be a whole number of pixels from 1 to {MAX_IMAGE_SIDE} (and within the \
+                 device's own limit, checked when it renders)"
+            )
+        })
     };
     let tonemap = match s.tonemap.as_str() {
         "clamp" => Tonemap::Clamp,
@@ -86,10 +89,13 @@ fn camera(s: &CameraSection) -> Check<Camera> {
     let position = finite("camera.position", s.position.0)?;
     let look_at = finite("camera.look_at", s.look_at.0)?;
     let up = nonzero("camera.up", s.up.0)?;
-    if position == look_at {
+    // Closer than a millionth of the position's magnitude, the view direction is rounding noise.
+    let distance = (look_at - position).length();
+    if distance <= 1e-6 * position.length().max(1.0) {
         return Err(format!(
-            "camera.look_at = {:?}: equal to camera.position, so the camera looks nowhere",
-            s.look_at.0
+            "camera.look_at = {:?}: {} camera.position, so the camera looks nowhere",
+            s.look_at.0,
+            if distance == 0.0 { "equal to".to_string() } else { format!("{distance:e} from") }
         ));
     }
     if (look_at - position).cross(up).length_squared()
