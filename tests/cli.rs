@@ -408,6 +408,47 @@ fn zero_columns_and_an_id_map_over_the_image_are_refused() {
 }
 
 #[test]
+fn a_huge_string_value_is_quoted_short() {
+    let folder = temp_dir();
+    let long = "x".repeat(5_000_000);
+    let scene = scene_file(folder.path(), |t| t.replacen("tonemap = \"clamp\"", &format!("tonemap = \"{long}\""), 1));
+    let stderr =
+        fails_with(&scene, &[], &["scene.toml", "image.tonemap = \"xxxx", "(5000000 characters)", "unknown tonemap"]);
+    assert!(stderr.len() < 1000, "{} bytes of message", stderr.len());
+}
+
+#[test]
+fn a_set_value_is_one_value_and_a_table_merges() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), |t| t.to_string());
+    let out = folder.path().join("small.png");
+    let output = vk_render(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--set",
+        "image.width=8\nimage.height = 9",
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "a usage error: {stderr}");
+    assert!(stderr.contains("--set image.width") && stderr.contains("more than one value"), "{stderr}");
+    assert!(!out.exists());
+    let output = vk_render(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--height",
+        "64",
+        "--set",
+        "image={width=96}",
+    ]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert_eq!(image::image_dimensions(&out).unwrap(), (96, 64), "the table override dropped --height");
+}
+
+#[test]
 fn missing_obj() {
     mesh_fails("missing.obj", None, "No such file");
 }

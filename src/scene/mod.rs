@@ -318,6 +318,14 @@ mod tests {
     }
 
     #[test]
+    fn a_table_override_merges_key_by_key() {
+        let scene = parse(MINIMAL, &["image={width=8}", "image.height=64"]).unwrap();
+        assert_eq!((scene.image.width, scene.image.height), (8, 64));
+        let scene = parse(MINIMAL, &["image.height=64", "image={width=8}"]).unwrap();
+        assert_eq!((scene.image.width, scene.image.height), (8, 64), "the table dropped the height set before");
+    }
+
+    #[test]
     fn bad_overrides_name_themselves() {
         assert!(error(MINIMAL, &["image.widht=3"]).contains("--set image.widht=3: unknown field `widht`"));
         assert!(error(MINIMAL, &["object.0.radius=-1"]).contains("object.0.radius = -1"));
@@ -326,6 +334,11 @@ mod tests {
             .contains("is a value, not a table"));
         assert!(error(MINIMAL, &["light.0.power=1"]).contains("no `light`"));
         assert!("nokey".parse::<Override>().is_err());
+        // One value for one key: no second assignment smuggled in after a newline.
+        let two = "image.width=8\nimage.height = 9".parse::<Override>().unwrap_err();
+        assert!(two.contains("--set image.width") && two.contains("more than one value"), "{two}");
+        assert!("object.0.path=a\nb c".parse::<Override>().unwrap_err().contains("not one TOML value"));
+        assert_eq!("object.0.path=my mesh.obj".parse::<Override>().unwrap().value, toml::Value::from("my mesh.obj"));
         assert!("a..b=1".parse::<Override>().is_err());
     }
 

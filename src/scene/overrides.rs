@@ -36,12 +36,15 @@ impl FromStr for Override {
             return Err(format!("`{path}` is not a dotted key path (e.g. material.grey.sigma)"));
         }
         let value_text = value_text.trim();
-        #[derive(Deserialize)]
-        struct Wrapper {
-            v: Value,
-        }
-        let value = match toml::from_str::<Wrapper>(&format!("v = {value_text}")) {
-            Ok(wrapper) => wrapper.v,
+        // One TOML value for one key: parsed as the document `v = VALUE`, which must then hold `v` alone
+        // (a newline and a second assignment is not a value). Text that is no TOML value at all, on one
+        // line, is taken as a string (`brdf=phong`, a path with spaces).
+        let value = match toml::from_str::<Table>(&format!("v = {value_text}")) {
+            Ok(mut document) if document.len() == 1 => document.remove("v").ok_or("no value")?,
+            Ok(_) => return Err(format!("--set {path}: `{}` holds more than one value", shortened(value_text))),
+            Err(_) if value_text.contains(['\n', '\r']) => {
+                return Err(format!("--set {path}: `{}` is not one TOML value", shortened(value_text)));
+            }
             Err(_) => Value::String(value_text.to_string()),
         };
         Ok(Self { path: path.to_string(), value })
@@ -104,6 +107,33 @@ fn set(table: &mut Table, item: &Override) -> Result<(), String> {
         };
         walked = here;
     }
-    current.insert((*last).to_string(), item.value.clone());
+    match (current.get_mut(*last), &item.value) {
+        // A table given for a table changes the keys it names and keeps the others: `image={width=8}`
+        // is `image.width=8`, not an [image] of defaults but for its width.
+        (Some(Value::Table(existing)), Value::Table(given)) => merge(existing, given),
+        _ => {
+            current.insert((*last).to_string(), item.value.clone());
+        }
+    }
     Ok(())
+}
+
+/// Writes every key of `given` into `table`, tables into tables key by key.
+fn merge(table: &mut Table, given: &Table) {
+    for (key, value) in given {
+        match (table.get_mut(key), value) {
+            (Some(Value::Table(existing)), Value::Table(inner)) => merge(existing, inner),
+            _ => {
+                table.insert(key.clone(), value.clone());
+            }
+        }
+    }
+}
+
+/// At most the first 40 characters of `text`, for messages that quote what the user gave.
+pub fn shortened(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        Some((end, _)) => format!("{}... ({} characters)", &text[..end], text.chars().count()),
+        None => text.to_string(),
+    }
 }

@@ -15,6 +15,11 @@ use crate::brdf::{Brdf, DiffuseModel};
 
 type Check<T> = Result<T, String>;
 
+/// A string the user gave, quoted for a message: at most its first 40 characters.
+fn quoted(text: &str) -> String {
+    format!("{:?}", super::overrides::shortened(text))
+}
+
 /// Validates a deserialized scene file read from `path`.
 pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
     let image = image(&raw.image)?;
@@ -51,19 +56,30 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
         "aces" => Tonemap::Aces,
         other => {
             return Err(format!(
-                "image.tonemap = {other:?}: unknown tonemap (expected \"clamp\", \"reinhard\" or \"aces\")"
+                "image.tonemap = {}: unknown tonemap (expected \"clamp\", \"reinhard\" or \"aces\")",
+                quoted(other)
             ))
         }
     };
     let encoding = match s.encoding.as_str() {
         "linear" => Encoding::Linear,
         "srgb" => Encoding::Srgb,
-        other => return Err(format!("image.encoding = {other:?}: unknown encoding (expected \"linear\" or \"srgb\")")),
+        other => {
+            return Err(format!(
+                "image.encoding = {}: unknown encoding (expected \"linear\" or \"srgb\")",
+                quoted(other)
+            ))
+        }
     };
     let shadow_filter = match s.shadow_filter.as_str() {
         "hard" => ShadowFilter::Hard,
         "pcf" => ShadowFilter::Pcf,
-        other => return Err(format!("image.shadow_filter = {other:?}: unknown filter (expected \"hard\" or \"pcf\")")),
+        other => {
+            return Err(format!(
+                "image.shadow_filter = {}: unknown filter (expected \"hard\" or \"pcf\")",
+                quoted(other)
+            ))
+        }
     };
     let shadow_map_size = u32::try_from(s.shadow_map_size).ok().filter(|v| *v >= 16).ok_or_else(|| {
         format!("image.shadow_map_size = {}: must be a whole number of texels, at least 16", s.shadow_map_size)
@@ -115,7 +131,7 @@ fn camera(s: &CameraSection) -> Check<Camera> {
 fn light(index: usize, s: &LightSection) -> Check<PointLight> {
     let key = |name: &str| format!("light.{index}.{name}");
     if s.kind != "point" {
-        return Err(format!("{} = {:?}: unknown light type (expected \"point\")", key("type"), s.kind));
+        return Err(format!("{} = {}: unknown light type (expected \"point\")", key("type"), quoted(&s.kind)));
     }
     Ok(PointLight {
         position: finite(&key("position"), s.position.0)?,
@@ -138,7 +154,12 @@ fn material(name: &str, s: &MaterialSection) -> Check<Brdf> {
     let key = |param: &str| format!("material.{name}.{param}");
     let Some(&(_, accepted)) = BRDF_PARAMETERS.iter().find(|(brdf, _)| *brdf == s.brdf) else {
         let names: Vec<_> = BRDF_PARAMETERS.iter().map(|(brdf, _)| format!("\"{brdf}\"")).collect();
-        return Err(format!("{} = {:?}: unknown brdf (expected one of {})", key("brdf"), s.brdf, names.join(", ")));
+        return Err(format!(
+            "{} = {}: unknown brdf (expected one of {})",
+            key("brdf"),
+            quoted(&s.brdf),
+            names.join(", ")
+        ));
     };
     let present = [
         ("kd", s.kd.is_some()),
@@ -188,8 +209,9 @@ fn material(name: &str, s: &MaterialSection) -> Check<Brdf> {
                 "lambert" => DiffuseModel::Lambert,
                 other => {
                     return Err(format!(
-                        "{} = {other:?}: unknown diffuse model (expected \"oren-nayar\" or \"lambert\")",
-                        key("diffuse")
+                        "{} = {}: unknown diffuse model (expected \"oren-nayar\" or \"lambert\")",
+                        key("diffuse"),
+                        quoted(other)
                     ))
                 }
             };
@@ -209,9 +231,9 @@ fn object(index: usize, s: &ObjectSection, materials: &BTreeMap<String, Brdf>, s
     let key = |name: &str| format!("object.{index}.{name}");
     let Some(&(_, accepted)) = SHAPE_KEYS.iter().find(|(shape, _)| *shape == s.shape) else {
         return Err(format!(
-            "{} = {:?}: unknown shape (expected \"sphere\", \"plane\" or \"mesh\")",
+            "{} = {}: unknown shape (expected \"sphere\", \"plane\" or \"mesh\")",
             key("shape"),
-            s.shape
+            quoted(&s.shape)
         ));
     };
     let present = [
