@@ -343,14 +343,20 @@ impl Renderer {
 
         // What is kept from the last image where it still holds, made anew where not.
         self.meshes.update(&device, placed)?;
-        let mut cubes = ShadowCubes::for_lights(
-            &device,
-            self.shadow_cubes.take(),
-            scene.image.shadow_map_size,
-            shadow_casters.len(),
-        )?;
+        let cube_size = scene.image.shadow_map_size;
+        let mut cubes = ShadowCubes::for_lights(&device, self.shadow_cubes.take(), cube_size, shadow_casters.len())
+            .map_err(|e| {
+                // Distance and depth, 4 bytes a texel each: six faces a casting light, and one depth face.
+                let bytes = u64::from(cube_size).pow(2) * 4 * (6 * shadow_casters.len() as u64 + 1);
+                too_big(e, scene, format!("image.shadow_map_size = {cube_size}"), "shadow cubes", bytes)
+            })?;
         let faces_to_draw = faces_to_draw(scene, placed, (&shadow_casters, &seen), &shadow_faces, &cubes);
-        let targets = Targets::for_size(&device, self.targets.take(), width, height, samples)?;
+        let targets = Targets::for_size(&device, self.targets.take(), width, height, samples).map_err(|e| {
+            // Colour (16 bytes) and depth (4) a sample, the resolved image and its read-back copy (16 each).
+            let bytes = u64::from(width) * u64::from(height) * (20 * u64::from(scene.image.samples) + 32);
+            let setting = format!("image.width x height x samples = {width} x {height} x {}", scene.image.samples);
+            too_big(e, scene, setting, "render targets", bytes)
+        })?;
         let cubes_binding = (cubes.maps.view, &self.shadow_sampler);
         let scene_data = match self.scene_data.take() {
             Some(mut data) => {
@@ -392,6 +398,26 @@ impl Renderer {
         self.targets = Some(targets);
         self.scene_data = Some(scene_data);
         drawn
+    }
+}
+
+/// An allocation that failed for what `setting` of `scene` asked, said as such with the bytes it needed;
+/// any other error as it is.
+fn too_big(error: Error, scene: &Scene, setting: String, what: &str, bytes: u64) -> Error {
+    let why = match &error {
+        Error::Allocation(e) => e.to_string(),
+        // lavapipe on Mesa 25 refuses such an image when it is made.
+        Error::Vulkan(e @ (vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY)) => {
+            e.to_string()
+        }
+        _ => return error,
+    };
+    Error::Scene {
+        file: scene.source.clone(),
+        message: format!(
+            "{setting}: the {what} need {:.1} GiB of device memory, more than the device could give ({why})",
+            bytes as f64 / f64::from(1u32 << 30)
+        ),
     }
 }
 
