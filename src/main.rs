@@ -357,7 +357,8 @@ fn figures(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
 }
 
 /// Renders every tile, each encoded to PNG on another thread while the next renders, then writes the tiles
-/// and the labelled contact sheet: no file is written unless every tile rendered.
+/// and the labelled contact sheet: no file is written unless every tile rendered, and none is left if one
+/// cannot be written.
 fn render_sheet(
     renderer: &mut Renderer,
     title: &str,
@@ -384,10 +385,22 @@ fn render_sheet(
         Ok(encoder.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
     })?;
     let encoded = encoded.into_iter().collect::<vk_render::Result<Vec<_>>>()?;
-    for (tile, bytes) in tiles.iter().zip(&encoded) {
-        write_file(&tile.path, bytes)?;
+    let sheet = png_bytes(&contact_sheet(Some(title), &images, columns), sheet_path)?;
+    // All or nothing: a file that cannot be written takes back the ones written before it.
+    let files: Vec<(&std::path::Path, &[u8])> = tiles
+        .iter()
+        .zip(&encoded)
+        .map(|(tile, bytes)| (tile.path.as_path(), bytes.as_slice()))
+        .chain(std::iter::once((sheet_path, sheet.as_slice())))
+        .collect();
+    for (written, (path, bytes)) in files.iter().enumerate() {
+        if let Err(e) = write_file(path, bytes) {
+            for (earlier, _) in &files[..written] {
+                let _ = std::fs::remove_file(earlier);
+            }
+            anyhow::bail!("{e} (nothing is left of this sheet: the {written} file(s) written before it were removed)");
+        }
     }
-    write_png(&contact_sheet(Some(title), &images, columns), sheet_path)?;
     println!("{}", sheet_path.display());
     Ok(())
 }

@@ -469,6 +469,37 @@ fn device_memory_exhaustion_names_the_setting_and_the_need() {
 }
 
 #[test]
+fn a_sweep_that_cannot_write_a_tile_leaves_nothing() {
+    let folder = temp_dir();
+    let sheet = folder.path().join("sheet.png");
+    // The third tile's path is taken by a folder: writing it fails after two tiles were written.
+    std::fs::create_dir(folder.path().join("sheet-0.3.png")).unwrap();
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    let output = vk_render(&[
+        "sweep",
+        fig1.to_str().unwrap(),
+        "--param",
+        "material.grey.kd",
+        "--values",
+        "0.1,0.2,0.3,0.4",
+        "--width",
+        "60",
+        "--height",
+        "40",
+        "-o",
+        sheet.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("sheet-0.3.png") && stderr.contains("2 file(s) written before it were removed"),
+        "{stderr}"
+    );
+    let left: Vec<_> = std::fs::read_dir(folder.path()).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("sheet-0.3.png")], "files left behind");
+}
+
+#[test]
 fn missing_obj() {
     mesh_fails("missing.obj", None, "No such file");
 }
