@@ -195,20 +195,80 @@ fn encoded(
     Ok(bytes.into_inner())
 }
 
-/// Writes `bytes` to a temporary file beside `path` and renames it into place, so that a failure never
-/// leaves a partial file behind.
+/// Writes `bytes` to a temporary file beside `path` (`NAME.partial-PID`) and renames it into place, so that a
+/// failure never leaves a partial file behind: on an error the temporary file is removed, on SIGINT or
+/// SIGTERM [`remove_partial_files`] removes it, and what a SIGKILL leaves is removed by the next write to
+/// the same path.
 ///
 /// # Errors
 /// `Error::Output` naming the path when the file cannot be written.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     let error = |message: String| Error::Output { path: path.to_path_buf(), message };
+    remove_abandoned_partial_files(path);
     let temporary = temporary_path(path);
-    let written = std::fs::write(&temporary, bytes).and_then(|()| std::fs::rename(&temporary, path));
+    let partial = Partial::new(temporary.clone());
+    let written = std::fs::write(&temporary, bytes).and_then(|()| {
+        pause_for_tests();
+        std::fs::rename(&temporary, path)
+    });
+    drop(partial);
     if let Err(e) = written {
         let _ = std::fs::remove_file(&temporary);
         return Err(error(format!("cannot write the file: {e}")));
     }
     Ok(())
+}
+
+/// The temporary files being written now, for [`remove_partial_files`].
+static PARTIAL_FILES: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn partial_files() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    PARTIAL_FILES.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// A temporary file registered for removal on a signal while it is written.
+struct Partial(PathBuf);
+
+impl Partial {
+    fn new(path: PathBuf) -> Self {
+        partial_files().push(path.clone());
+        Self(path)
+    }
+}
+
+impl Drop for Partial {
+    fn drop(&mut self) {
+        partial_files().retain(|p| *p != self.0);
+    }
+}
+
+/// Removes every temporary file being written (a signal handler's last act): returns how many.
+pub fn remove_partial_files() -> usize {
+    partial_files().iter().filter(|path| std::fs::remove_file(path).is_ok()).count()
+}
+
+/// Removes the temporary files beside `path` that a process no longer running left (a SIGKILL cannot be
+/// caught): `NAME.partial-PID` whose PID has no /proc entry.
+fn remove_abandoned_partial_files(path: &Path) {
+    let (Some(folder), Some(name)) = (path.parent(), path.file_name()) else { return };
+    let folder = if folder.as_os_str().is_empty() { Path::new(".") } else { folder };
+    let prefix = format!("{}.partial-", name.to_string_lossy());
+    let Ok(entries) = std::fs::read_dir(folder) else { return };
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let pid = file.strip_prefix(&prefix).and_then(|pid| pid.parse::<u32>().ok());
+        if pid.is_some_and(|pid| pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists()) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// A test hook: VK_RENDER_TEST_WRITE_PAUSE_MS holds each write between its temporary file and the rename,
+/// so that a test can signal the process while a partial file exists.
+fn pause_for_tests() {
+    if let Some(ms) = std::env::var("VK_RENDER_TEST_WRITE_PAUSE_MS").ok().and_then(|v| v.parse().ok()) {
+        std::thread::sleep(std::time::Duration::from_millis(ms));
+    }
 }
 
 fn temporary_path(path: &Path) -> PathBuf {

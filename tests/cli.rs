@@ -499,6 +499,57 @@ fn a_sweep_that_cannot_write_a_tile_leaves_nothing() {
     assert_eq!(left, vec![std::ffi::OsString::from("sheet-0.3.png")], "files left behind");
 }
 
+/// Renders Figure 1 small into an empty folder with every write held for 20 s, sends `signal` (by name)
+/// once the partial file exists, and returns the exit code, stderr and what the folder holds after.
+fn signalled_during_a_write(signal: &str) -> (Option<i32>, String, Vec<std::ffi::OsString>) {
+    let folder = temp_dir();
+    let out = folder.path().join("out.png");
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
+        .args(["render", fig1.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "60", "--height", "40"])
+        .env("VK_RENDER_TEST_WRITE_PAUSE_MS", "20000")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    let partial = format!("out.png.partial-{}", child.id());
+    while !folder.path().join(&partial).exists() {
+        assert!(std::time::Instant::now() < deadline, "no {partial} appeared");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    // The shell's own kill: no procps needed.
+    let kill = format!("kill -{signal} {}", child.id());
+    assert!(Command::new("sh").args(["-c", &kill]).status().unwrap().success());
+    let output = child.wait_with_output().unwrap();
+    let left = std::fs::read_dir(folder.path()).unwrap().flatten().map(|e| e.file_name()).collect();
+    (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned(), left)
+}
+
+#[test]
+fn sigterm_and_sigint_during_a_write_leave_nothing() {
+    for (signal, code) in [("TERM", 143), ("INT", 130)] {
+        let (status, stderr, left) = signalled_during_a_write(signal);
+        assert_eq!(status, Some(code), "SIG{signal}: {stderr}");
+        assert!(stderr.contains(&format!("stopped by SIG{signal}; 1 partial file(s) removed")), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(left.is_empty(), "SIG{signal} left {left:?}");
+    }
+}
+
+#[test]
+fn a_partial_file_a_killed_process_left_is_removed_by_the_next_write() {
+    let folder = temp_dir();
+    let out = folder.path().join("out.png");
+    // No process has PID 4194304 (Linux's largest is 4194303): its partial file is abandoned.
+    let abandoned = folder.path().join("out.png.partial-4194304");
+    std::fs::write(&abandoned, b"half an image").unwrap();
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    let output =
+        vk_render(&["render", fig1.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "60", "--height", "40"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(out.exists() && !abandoned.exists(), "the abandoned partial file is still there");
+}
+
 #[test]
 fn missing_obj() {
     mesh_fails("missing.obj", None, "No such file");
