@@ -505,7 +505,7 @@ fn signalled_during_a_write(signal: &str) -> (Option<i32>, String, Vec<std::ffi:
     let folder = temp_dir();
     let out = folder.path().join("out.png");
     let fig1 = root().join("assets/scenes/fig1-lambert.toml");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
+    let child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
         .args(["render", fig1.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "60", "--height", "40"])
         .env("VK_RENDER_TEST_WRITE_PAUSE_MS", "20000")
         .stderr(std::process::Stdio::piped())
