@@ -6,8 +6,8 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 
 use vk_render::figures::FIGURES;
-use vk_render::output::{png_bytes, write_file, write_image, write_png, OutputFormat};
-use vk_render::sheet::contact_sheet;
+use vk_render::output::{write_image, write_png, write_png_rows, OutputFormat};
+use vk_render::sheet::SheetLayout;
 use vk_render::vulkan::{list_devices, preferred_device, Instance};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 
@@ -378,9 +378,9 @@ fn figures(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Renders every tile, each encoded to PNG on another thread while the next renders, then writes the tiles
-/// and the labelled contact sheet: no file is written unless every tile rendered, and none is left if one
-/// cannot be written.
+/// Renders every tile and writes it as soon as it is done, with the labelled contact sheet made band by band
+/// beside them: one row of tiles at a time in memory, however long the sweep. If anything fails, the files
+/// written are removed and the message says so.
 fn render_sheet(
     renderer: &mut Renderer,
     title: &str,
@@ -388,40 +388,35 @@ fn render_sheet(
     columns: usize,
     sheet_path: &std::path::Path,
 ) -> anyhow::Result<()> {
-    let (images, encoded) = std::thread::scope(|scope| -> anyhow::Result<_> {
-        let (rendered, to_encode) = std::sync::mpsc::channel::<(image::RgbImage, &Tile)>();
-        let encoder = scope.spawn(move || {
-            let mut images = Vec::new();
-            let mut encoded = Vec::new();
-            for (image, tile) in to_encode {
-                encoded.push(png_bytes(&image, &tile.path));
-                images.push((tile.label.clone(), image));
+    let tile_size = tiles.iter().fold((0, 0), |(w, h), t| (w.max(t.scene.image.width), h.max(t.scene.image.height)));
+    let layout = SheetLayout::new(Some(title), tiles.len(), tile_size, columns);
+    let mut written: Vec<&std::path::Path> = Vec::new();
+    let result = write_png_rows(sheet_path, layout.size(), |band| {
+        band(&layout.title_band())?;
+        let mut row = Vec::with_capacity(layout.columns);
+        for (index, tile) in tiles.iter().enumerate() {
+            let image = renderer.render_rgb8(&tile.scene)?;
+            write_png(&image, &tile.path)?;
+            written.push(&tile.path);
+            row.push((tile.label.clone(), image));
+            if row.len() == layout.columns || index + 1 == tiles.len() {
+                band(&layout.row_band(&row))?;
+                row.clear();
             }
-            (images, encoded)
-        });
-        for tile in tiles {
-            // The encoder only stops early if this thread is gone: a send cannot fail here.
-            let _ = rendered.send((renderer.render_rgb8(&tile.scene)?, tile));
         }
-        drop(rendered);
-        Ok(encoder.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-    })?;
-    let encoded = encoded.into_iter().collect::<vk_render::Result<Vec<_>>>()?;
-    let sheet = png_bytes(&contact_sheet(Some(title), &images, columns), sheet_path)?;
-    // All or nothing: a file that cannot be written takes back the ones written before it.
-    let files: Vec<(&std::path::Path, &[u8])> = tiles
-        .iter()
-        .zip(&encoded)
-        .map(|(tile, bytes)| (tile.path.as_path(), bytes.as_slice()))
-        .chain(std::iter::once((sheet_path, sheet.as_slice())))
-        .collect();
-    for (written, (path, bytes)) in files.iter().enumerate() {
-        if let Err(e) = write_file(path, bytes) {
-            for (earlier, _) in &files[..written] {
-                let _ = std::fs::remove_file(earlier);
-            }
-            anyhow::bail!("{e} (nothing is left of this sheet: the {written} file(s) written before it were removed)");
+        Ok(())
+    });
+    if let Err(e) = result {
+        for path in &written {
+            let _ = std::fs::remove_file(path);
         }
+        if written.is_empty() {
+            return Err(e.into());
+        }
+        anyhow::bail!(
+            "{e} (nothing is left of this sheet: the {} file(s) written before it were removed)",
+            written.len()
+        );
     }
     println!("{}", sheet_path.display());
     Ok(())

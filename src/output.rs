@@ -196,27 +196,113 @@ fn encoded(
 }
 
 /// Writes `bytes` to a temporary file beside `path` (`NAME.partial-PID`) and renames it into place, so that a
-/// failure never leaves a partial file behind: on an error the temporary file is removed, on SIGINT or
-/// SIGTERM [`remove_partial_files`] removes it, and what a SIGKILL leaves is removed by the next write to
-/// the same path.
+/// failure never leaves a partial file behind: see [`PartialFile`].
 ///
 /// # Errors
 /// `Error::Output` naming the path when the file cannot be written.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
-    let error = |message: String| Error::Output { path: path.to_path_buf(), message };
-    remove_abandoned_partial_files(path);
-    let temporary = temporary_path(path);
-    let partial = Partial::new(temporary.clone());
-    let written = std::fs::write(&temporary, bytes).and_then(|()| {
-        pause_for_tests();
-        std::fs::rename(&temporary, path)
-    });
-    drop(partial);
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&temporary);
-        return Err(error(format!("cannot write the file: {e}")));
+    let mut file = PartialFile::create(path)?;
+    file.write(bytes)?;
+    file.commit()
+}
+
+/// A file written under a temporary name beside its final path (`NAME.partial-PID`) and renamed into place
+/// by [`PartialFile::commit`]. Dropped uncommitted (an error on the way), the temporary file is removed; on
+/// SIGINT or SIGTERM [`remove_partial_files`] removes it; what a SIGKILL leaves is removed by the next write
+/// to the same path.
+pub struct PartialFile {
+    path: PathBuf,
+    file: Option<std::io::BufWriter<std::fs::File>>,
+    registered: Partial,
+}
+
+impl PartialFile {
+    /// Creates the temporary file for `path`, first removing what killed processes left beside it.
+    ///
+    /// # Errors
+    /// `Error::Output` naming the path when the file cannot be created.
+    pub fn create(path: &Path) -> Result<Self> {
+        remove_abandoned_partial_files(path);
+        let registered = Partial::new(temporary_path(path));
+        let file = std::fs::File::create(&registered.0).map_err(|e| write_error(path, &e))?;
+        Ok(Self { path: path.to_path_buf(), file: Some(std::io::BufWriter::new(file)), registered })
     }
-    Ok(())
+
+    /// Appends `bytes`.
+    ///
+    /// # Errors
+    /// `Error::Output` naming the final path.
+    pub fn write(&mut self, bytes: &[u8]) -> Result<()> {
+        use std::io::Write;
+        let file = self.file.as_mut().ok_or_else(|| write_error(&self.path, &std::io::ErrorKind::Other.into()))?;
+        file.write_all(bytes).map_err(|e| write_error(&self.path, &e))
+    }
+
+    /// Flushes the file and renames it into place.
+    ///
+    /// # Errors
+    /// `Error::Output` naming the final path.
+    pub fn commit(mut self) -> Result<()> {
+        let file = self.file.take().ok_or_else(|| write_error(&self.path, &std::io::ErrorKind::Other.into()))?;
+        file.into_inner().map_err(|e| write_error(&self.path, e.error()))?.sync_data().ok();
+        pause_for_tests();
+        std::fs::rename(&self.registered.0, &self.path).map_err(|e| write_error(&self.path, &e))
+    }
+}
+
+impl std::io::Write for PartialFile {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.file.as_mut().ok_or(std::io::ErrorKind::Other)?.write(bytes)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.as_mut().ok_or(std::io::ErrorKind::Other)?.flush()
+    }
+}
+
+impl Drop for PartialFile {
+    fn drop(&mut self) {
+        // Committed, the temporary name is gone and this fails harmlessly.
+        self.file = None;
+        let _ = std::fs::remove_file(&self.registered.0);
+    }
+}
+
+fn write_error(path: &Path, e: &std::io::Error) -> Error {
+    Error::Output { path: path.to_path_buf(), message: format!("cannot write the file: {e}") }
+}
+
+/// Writes the 8-bit RGB PNG of `width` x `height` at `path` row by row, as `produce` hands over bands of
+/// whole rows (a contact sheet made band by band holds one band at a time), through a [`PartialFile`]:
+/// nothing is left at `path` unless `produce` succeeds and its bands fill the image.
+///
+/// # Errors
+/// What `produce` returns, or `Error::Output` naming the path.
+pub fn write_png_rows(
+    path: &Path,
+    (width, height): (u32, u32),
+    produce: impl FnOnce(&mut dyn FnMut(&image::RgbImage) -> Result<()>) -> Result<()>,
+) -> Result<()> {
+    let encoding = |e: png::EncodingError| Error::Output {
+        path: path.to_path_buf(),
+        message: format!("cannot encode the image: {e}"),
+    };
+    let mut file = PartialFile::create(path)?;
+    {
+        let mut encoder = png::Encoder::new(&mut file, width, height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_compression(png::Compression::Fast);
+        let mut writer = encoder.write_header().map_err(encoding)?;
+        let mut rows = writer.stream_writer().map_err(encoding)?;
+        produce(&mut |band: &image::RgbImage| {
+            use std::io::Write;
+            rows.write_all(band.as_raw()).map_err(|e| write_error(path, &e))
+        })?;
+        rows.finish().map_err(encoding)?;
+        writer.finish().map_err(encoding)?;
+    }
+    file.commit()
 }
 
 /// The temporary files being written now, for [`remove_partial_files`].

@@ -13,26 +13,72 @@ const INK: Rgb<u8> = Rgb([240, 240, 240]);
 
 /// Lays `tiles` out in rows of at most `columns`, each tile labelled, under an optional title.
 pub fn contact_sheet(title: Option<&str>, tiles: &[(String, RgbImage)], columns: usize) -> RgbImage {
-    let columns = columns.clamp(1, tiles.len().max(1));
-    let rows = tiles.len().div_ceil(columns);
     let tile_w = tiles.iter().map(|(_, t)| t.width()).max().unwrap_or(0);
     let tile_h = tiles.iter().map(|(_, t)| t.height()).max().unwrap_or(0);
-    let title_h = if title.is_some() { STRIP } else { 0 };
-    let width = GAP + columns as u32 * (tile_w + GAP);
-    let height = title_h + GAP + rows as u32 * (tile_h + STRIP + GAP);
-    let mut sheet = RgbImage::from_pixel(width, height, PAPER);
-    if let Some(title) = title {
-        draw_text(&mut sheet, GAP, (STRIP - GLYPH) / 2 + GAP / 2, title);
+    let layout = SheetLayout::new(title, tiles.len(), (tile_w, tile_h), columns);
+    let (width, height) = layout.size();
+    let mut bytes = layout.title_band().into_raw();
+    for row in tiles.chunks(layout.columns) {
+        bytes.extend(layout.row_band(row).into_raw());
     }
-    for (index, (label, tile)) in tiles.iter().enumerate() {
-        let x = GAP + (index % columns) as u32 * (tile_w + GAP);
-        let y = title_h + GAP + (index / columns) as u32 * (tile_h + STRIP + GAP);
-        image::imageops::replace(&mut sheet, tile, i64::from(x), i64::from(y));
-        let text_w = text_width(label);
-        let text_x = x + tile_w.saturating_sub(text_w) / 2;
-        draw_text(&mut sheet, text_x, y + tile_h + (STRIP - GLYPH) / 2, label);
+    RgbImage::from_raw(width, height, bytes).expect("the bands fill the sheet")
+}
+
+/// Where a contact sheet puts its title and tiles, so that it can be made band by band, top to bottom:
+/// the title band, then one band per row of tiles (a sweep of hundreds of images holds one row at a time).
+pub struct SheetLayout {
+    title: Option<String>,
+    pub columns: usize,
+    rows: usize,
+    tile_w: u32,
+    tile_h: u32,
+}
+
+impl SheetLayout {
+    /// A sheet of `count` tiles of at most `tile_w` x `tile_h` pixels, in rows of at most `columns`.
+    pub fn new(title: Option<&str>, count: usize, (tile_w, tile_h): (u32, u32), columns: usize) -> Self {
+        let columns = columns.clamp(1, count.max(1));
+        Self { title: title.map(str::to_string), columns, rows: count.div_ceil(columns), tile_w, tile_h }
     }
-    sheet
+
+    /// The sheet's width and height.
+    pub fn size(&self) -> (u32, u32) {
+        let width = GAP + self.columns as u32 * (self.tile_w + GAP);
+        (width, self.title_height() + self.rows as u32 * self.row_height())
+    }
+
+    fn title_height(&self) -> u32 {
+        if self.title.is_some() {
+            STRIP + GAP
+        } else {
+            GAP
+        }
+    }
+
+    fn row_height(&self) -> u32 {
+        self.tile_h + STRIP + GAP
+    }
+
+    /// The band above the first row: the title, if any, and a gap.
+    pub fn title_band(&self) -> RgbImage {
+        let mut band = RgbImage::from_pixel(self.size().0, self.title_height(), PAPER);
+        if let Some(title) = &self.title {
+            draw_text(&mut band, GAP, (STRIP - GLYPH) / 2 + GAP / 2, title);
+        }
+        band
+    }
+
+    /// The band of one row of tiles (at most `columns`), each labelled under it.
+    pub fn row_band(&self, tiles: &[(String, RgbImage)]) -> RgbImage {
+        let mut band = RgbImage::from_pixel(self.size().0, self.row_height(), PAPER);
+        for (column, (label, tile)) in tiles.iter().take(self.columns).enumerate() {
+            let x = GAP + column as u32 * (self.tile_w + GAP);
+            image::imageops::replace(&mut band, tile, i64::from(x), 0);
+            let text_x = x + self.tile_w.saturating_sub(text_width(label)) / 2;
+            draw_text(&mut band, text_x, self.tile_h + (STRIP - GLYPH) / 2, label);
+        }
+        band
+    }
 }
 
 /// The width of `text` in pixels.

@@ -7,9 +7,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gpu_types::GpuMaterial;
-use super::passes::{
-    begin_rendering, build_in_parallel, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets,
-};
+use super::passes::{begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
 use crate::scene::{Object, Scene, ShadowFilter};
@@ -84,7 +82,7 @@ impl ForwardPass {
         })
     }
 
-    /// The pipelines for `keys`, in order: those not built yet are built first, side by side.
+    /// The pipelines for `keys`, in order: those not built yet are built first.
     ///
     /// # Errors
     /// `Error::Vulkan` if the driver refuses a pipeline.
@@ -92,8 +90,8 @@ impl ForwardPass {
         let mut missing: Vec<PipelineKey> = keys.iter().filter(|k| !self.pipelines.contains_key(k)).copied().collect();
         missing.sort_by_key(|k| format!("{k:?}"));
         missing.dedup();
-        let built = build_in_parallel(&missing, |key| self.build(key))?;
-        for (key, pipeline) in missing.into_iter().zip(built) {
+        for key in missing {
+            let pipeline = self.build(&key)?;
             log::debug!("built the forward pipeline for {key:?}");
             self.pipelines.insert(key, pipeline);
         }

@@ -69,33 +69,6 @@ pub fn build_pipeline(
     device.create_graphics_pipeline(&desc, &format!("{} x{} {fragment_constants:?}", fragment.name, samples.as_raw()))
 }
 
-/// Builds one pipeline per key with `build`, on as many threads as there are cores: lavapipe compiles each
-/// pipeline's shaders with LLVM on the calling thread (10 to 80 ms a pipeline), and Vulkan lets several
-/// threads create pipelines at once. The pipelines come back in the order of `keys`.
-///
-/// # Errors
-/// The first error of `build`.
-pub fn build_in_parallel<K: Sync>(keys: &[K], build: impl Fn(&K) -> Result<Pipeline> + Sync) -> Result<Vec<Pipeline>> {
-    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get).min(keys.len());
-    if threads <= 1 {
-        return keys.iter().map(&build).collect();
-    }
-    let build = &build;
-    let mut built: Vec<(usize, Result<Pipeline>)> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|first| {
-                scope.spawn(move || {
-                    (first..keys.len()).step_by(threads).map(|i| (i, build(&keys[i]))).collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        // A worker that panicked has nothing to return: the panic carries on in this thread.
-        workers.into_iter().flat_map(|worker| worker.join().unwrap_or_else(|e| std::panic::resume_unwind(e))).collect()
-    });
-    built.sort_by_key(|(i, _)| *i);
-    built.into_iter().map(|(_, pipeline)| pipeline).collect()
-}
-
 /// One shader's SPIR-V and its file's name.
 pub struct CompiledShader {
     pub name: &'static str,

@@ -14,7 +14,7 @@ use glam::{Mat4, Vec3};
 
 use super::forward::DEPTH_FORMAT;
 use super::gpu_types::PixelRays;
-use super::passes::{begin_rendering, build_in_parallel, build_pipeline, CompiledShader, PassTargets};
+use super::passes::{begin_rendering, build_pipeline, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
 use crate::scene::{Camera, Scene, ShadowFilter};
@@ -40,12 +40,10 @@ impl ShadowPass {
         let vertex = CompiledShader::new(compiler, "shadow.vert")?;
         let fragments =
             [CompiledShader::new(compiler, "shadow.frag")?, CompiledShader::new(compiler, "shadow_sphere.frag")?];
-        let [meshes, spheres]: [Pipeline; 2] = build_in_parallel(&fragments, |fragment| {
+        let build = |fragment| {
             build_pipeline(device, layout, (&vertex, fragment), (DISTANCE_FORMAT, vk::SampleCountFlags::TYPE_1), &[])
-        })?
-        .try_into()
-        .unwrap_or_else(|_| unreachable!("one pipeline per fragment shader"));
-        Ok(Self { meshes, spheres })
+        };
+        Ok(Self { meshes: build(&fragments[0])?, spheres: build(&fragments[1])? })
     }
 
     /// The pipeline that draws `placed`.
