@@ -67,8 +67,10 @@ pub fn version_string(v: u32) -> String {
 /// # Errors
 /// `Error::Vulkan` if the enumeration fails.
 pub fn list_devices(instance: &Instance) -> Result<Vec<(vk::PhysicalDevice, DeviceInfo)>> {
+    let loader = super::loader_lock();
     // SAFETY: the instance is alive.
     let physical = unsafe { instance.raw.enumerate_physical_devices()? };
+    drop(loader);
     Ok(physical
         .into_iter()
         .enumerate()
@@ -147,7 +149,10 @@ impl Device {
             .enabled_features(&features)
             .push_next(&mut features13);
         // SAFETY: create_info and what it points to outlive the call.
-        let raw = unsafe { instance.raw.create_device(physical, &create_info, None)? };
+        let raw = {
+            let _loader = super::loader_lock();
+            unsafe { instance.raw.create_device(physical, &create_info, None)? }
+        };
         // SAFETY: the family was created with one queue.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
         // SAFETY: physical comes from this instance.
@@ -294,6 +299,7 @@ impl Device {
         let Ok(name) = std::ffi::CString::new(name) else { return };
         let loader = ash::ext::debug_utils::Device::new(&self.instance.raw, &self.raw);
         let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
+        let _loader = super::loader_lock();
         // SAFETY: the handle belongs to this device; naming is advisory, so a failure is ignored.
         let _ = unsafe { loader.set_debug_utils_object_name(&info) };
     }
@@ -388,6 +394,7 @@ impl Drop for Device {
             let _ = self.raw.device_wait_idle();
             self.raw.destroy_command_pool(self.command_pool, None);
             ManuallyDrop::drop(&mut self.allocator);
+            let _loader = super::loader_lock();
             self.raw.destroy_device(None);
         }
     }

@@ -111,6 +111,7 @@ impl Instance {
             // Chained here too so that messages from instance creation and destruction are caught.
             create_info = create_info.push_next(&mut messenger_info).push_next(&mut validation_features);
         }
+        let loader_lock = super::loader_lock();
         // SAFETY: every pointer in create_info outlives the call.
         let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|e| match e {
             vk::Result::ERROR_INCOMPATIBLE_DRIVER | vk::Result::ERROR_INITIALIZATION_FAILED => {
@@ -133,6 +134,7 @@ impl Instance {
         } else {
             None
         };
+        drop(loader_lock);
         Ok(Instance { entry, raw, debug })
     }
 
@@ -156,6 +158,7 @@ impl Drop for Instance {
     fn drop(&mut self) {
         // SAFETY: every device and object made from this instance is gone: they hold an Arc of it.
         unsafe {
+            let _loader = super::loader_lock();
             if let Some(debug) = &self.debug {
                 debug.loader.destroy_debug_utils_messenger(debug.raw, None);
             }

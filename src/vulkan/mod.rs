@@ -16,6 +16,16 @@ mod swapchain;
 #[cfg(test)]
 mod validation_tests;
 
+/// Held around the Vulkan loader's process-wide work: making and destroying instances and devices,
+/// enumerating physical devices, and naming objects. The loader of Debian 13 (1.4.309) unloads unused
+/// drivers (dlclose) while it enumerates, and a name given on another thread at that moment walked its
+/// tables and crashed (SIGSEGV in vkSetDebugUtilsObjectNameEXT, about one run in ten of the reference
+/// tests, which open renderers on several threads). These calls are few, so the lock costs nothing else.
+pub(crate) fn loader_lock() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 pub use buffer::{Buffer, BufferDesc};
 pub use descriptor::{Descriptor, DescriptorPool};
 pub use device::{list_devices, preferred_device, version_string, Device, DeviceInfo};

@@ -36,14 +36,6 @@ pub struct GraphicsPipelineDesc<'a> {
     pub fragment_constants: &'a [u32],
 }
 
-/// Held while a pipeline is created, process-wide. lavapipe on Mesa 25 (LLVM 19) crashed (SIGSEGV, about
-/// one run in six of the reference tests, which render with two devices at once) when two threads created
-/// pipelines at the same time; never with one at a time. Creation is rare, so the lock costs nothing else.
-fn pipeline_creation_lock() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    LOCK.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
-}
-
 impl Device {
     /// Creates one descriptor set layout per entry of `sets`, and a layout with them and the push constants.
     ///
@@ -136,7 +128,6 @@ impl Device {
             .layout(desc.layout.raw)
             .push_next(&mut rendering);
         // SAFETY: every structure the info points to lives until the call returns.
-        let _one_at_a_time = pipeline_creation_lock();
         let raw = unsafe { self.raw.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
             .map_err(|(_, e)| e)?[0];
         self.set_name(raw, name);
@@ -161,7 +152,6 @@ impl Device {
             .name(c"main");
         let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.raw);
         // SAFETY: the module and layout are alive for the call.
-        let _one_at_a_time = pipeline_creation_lock();
         let raw = unsafe { self.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
             .map_err(|(_, e)| e)?[0];
         self.set_name(raw, name);
