@@ -259,8 +259,8 @@ impl Renderer {
         }
     }
 
-    /// Builds every pipeline the scenes will need, side by side on the cores, before they are rendered one
-    /// after the other (`figures`, `sweep`): rendering builds what it lacks, one pipeline at a time.
+    /// Builds every pipeline the scenes will need before they are rendered one after the other (`figures`,
+    /// `sweep`), and loads their meshes: rendering builds what it lacks as it goes.
     ///
     /// # Errors
     /// `Error::Mesh` for an unloadable OBJ, `Error::Vulkan` if the driver refuses a pipeline.
