@@ -202,7 +202,7 @@ fn encoded(
 /// `Error::Output` naming the path when the file cannot be written.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut file = PartialFile::create(path)?;
-    file.write(bytes)?;
+    std::io::Write::write_all(&mut file, bytes).map_err(|e| write_error(path, &e))?;
     file.commit()
 }
 
@@ -226,16 +226,6 @@ impl PartialFile {
         let registered = Partial::new(temporary_path(path));
         let file = std::fs::File::create(&registered.0).map_err(|e| write_error(path, &e))?;
         Ok(Self { path: path.to_path_buf(), file: Some(std::io::BufWriter::new(file)), registered })
-    }
-
-    /// Appends `bytes`.
-    ///
-    /// # Errors
-    /// `Error::Output` naming the final path.
-    pub fn write(&mut self, bytes: &[u8]) -> Result<()> {
-        use std::io::Write;
-        let file = self.file.as_mut().ok_or_else(|| write_error(&self.path, &std::io::ErrorKind::Other.into()))?;
-        file.write_all(bytes).map_err(|e| write_error(&self.path, &e))
     }
 
     /// Flushes the file and renames it into place.

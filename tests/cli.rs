@@ -38,14 +38,29 @@ fn scene_file(folder: &Path, edit: impl Fn(&str) -> String) -> PathBuf {
     path
 }
 
+/// `vk-render render SCENE -o OUT`, then `extra` arguments.
+fn render_to(scene: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec!["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    vk_render(&args)
+}
+
+/// `vk-render sweep` of Figure 1 over the grey material's kd, through `values`, its sheet at `sheet`, then
+/// `extra` arguments.
+fn sweep_grey_kd(values: &str, sheet: &Path, extra: &[&str]) -> Output {
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    let mut args = vec!["sweep", fig1.to_str().unwrap(), "--param", "material.grey.kd", "--values", values];
+    args.extend_from_slice(&["-o", sheet.to_str().unwrap()]);
+    args.extend_from_slice(extra);
+    vk_render(&args)
+}
+
 /// Runs a render that must fail, and checks the exit status, that stderr holds every `needle` and that no
 /// output file (nor a partial one) was written.
 fn fails_with(scene: &Path, extra: &[&str], needles: &[&str]) -> String {
     let folder = scene.parent().unwrap();
     let out = folder.join("out.png");
-    let mut args = vec!["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()];
-    args.extend_from_slice(extra);
-    let output = vk_render(&args);
+    let output = render_to(scene, &out, extra);
     let stderr = String::from_utf8_lossy(&output.stderr).to_string();
     assert!(!output.status.success(), "exit status 0 for bad input; stderr: {stderr}");
     assert_eq!(output.status.code(), Some(1), "a clean error exit, not a crash; stderr: {stderr}");
@@ -274,7 +289,7 @@ fn a_scene_without_objects_renders_its_background_and_says_so() {
     let scene = folder.path().join("empty.toml");
     std::fs::write(&scene, "# nothing but a comment\n").unwrap();
     let out = folder.path().join("out.png");
-    let output = vk_render(&["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let output = render_to(&scene, &out, &[]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert!(
@@ -284,7 +299,7 @@ fn a_scene_without_objects_renders_its_background_and_says_so() {
     let lightless = folder.path().join("lightless.toml");
     let text = "[material.m]\nbrdf = \"lambert\"\nkd = 0.5\n[[object]]\nshape = \"sphere\"\ncenter = [0.0, 0.0, 3.0]\nradius = 1.0\nmaterial = \"m\"\n";
     std::fs::write(&lightless, text).unwrap();
-    let output = vk_render(&["render", lightless.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let output = render_to(&lightless, &out, &[]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
         output.status.success() && stderr.contains("lightless.toml") && stderr.contains("no [[light]]"),
@@ -296,18 +311,8 @@ fn a_scene_without_objects_renders_its_background_and_says_so() {
 fn empty_sweep_values_are_named_as_typed() {
     let folder = temp_dir();
     let sheet = folder.path().join("sheet.png");
-    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
     for values in ["", ",,,", "0.1,,0.2", "0.1,0.2,"] {
-        let output = vk_render(&[
-            "sweep",
-            fig1.to_str().unwrap(),
-            "--param",
-            "material.grey.kd",
-            "--values",
-            values,
-            "-o",
-            sheet.to_str().unwrap(),
-        ]);
+        let output = sweep_grey_kd(values, &sheet, &[]);
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(!output.status.success(), "{values:?}: {stderr}");
         assert!(stderr.contains("--values") && !stderr.contains("--set"), "{values:?}: {stderr}");
@@ -351,7 +356,7 @@ fn a_fifo_or_a_device_as_the_scene_is_refused_without_waiting() {
     let fifo = folder.path().join("scene.toml");
     assert!(Command::new("mkfifo").arg(&fifo).status().expect("mkfifo").success());
     fails_with(&fifo, &[], &["scene.toml", "is a FIFO (named pipe), not a regular file"]);
-    let output = vk_render(&["render", "/dev/zero", "-o", folder.path().join("out.png").to_str().unwrap()]);
+    let output = render_to(Path::new("/dev/zero"), &folder.path().join("out.png"), &[]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("/dev/zero is a device, not a regular file"), "{stderr}");
@@ -385,18 +390,7 @@ fn zero_columns_and_an_id_map_over_the_image_are_refused() {
     let sheet = folder.path().join("sheet.png");
     let fig1 = root().join("assets/scenes/fig1-lambert.toml");
     let fig1 = fig1.to_str().unwrap();
-    let output = vk_render(&[
-        "sweep",
-        fig1,
-        "--param",
-        "material.grey.kd",
-        "--values",
-        "0.1",
-        "--columns",
-        "0",
-        "-o",
-        sheet.to_str().unwrap(),
-    ]);
+    let output = sweep_grey_kd("0.1", &sheet, &["--columns", "0"]);
     assert!(!output.status.success() && String::from_utf8_lossy(&output.stderr).contains("--columns"));
     let image = folder.path().join("traced.png");
     let same = folder.path().join("./traced.png");
@@ -422,28 +416,12 @@ fn a_set_value_is_one_value_and_a_table_merges() {
     let folder = temp_dir();
     let scene = scene_file(folder.path(), |t| t.to_string());
     let out = folder.path().join("small.png");
-    let output = vk_render(&[
-        "render",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--set",
-        "image.width=8\nimage.height = 9",
-    ]);
+    let output = render_to(&scene, &out, &["--set", "image.width=8\nimage.height = 9"]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(2), "a usage error: {stderr}");
     assert!(stderr.contains("--set image.width") && stderr.contains("more than one value"), "{stderr}");
     assert!(!out.exists());
-    let output = vk_render(&[
-        "render",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--height",
-        "64",
-        "--set",
-        "image={width=96}",
-    ]);
+    let output = render_to(&scene, &out, &["--height", "64", "--set", "image={width=96}"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     assert_eq!(image::image_dimensions(&out).unwrap(), (96, 64), "the table override dropped --height");
 }
@@ -474,21 +452,7 @@ fn a_sweep_that_cannot_write_a_tile_leaves_nothing() {
     let sheet = folder.path().join("sheet.png");
     // The third tile's path is taken by a folder: writing it fails after two tiles were written.
     std::fs::create_dir(folder.path().join("sheet-0.3.png")).unwrap();
-    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
-    let output = vk_render(&[
-        "sweep",
-        fig1.to_str().unwrap(),
-        "--param",
-        "material.grey.kd",
-        "--values",
-        "0.1,0.2,0.3,0.4",
-        "--width",
-        "60",
-        "--height",
-        "40",
-        "-o",
-        sheet.to_str().unwrap(),
-    ]);
+    let output = sweep_grey_kd("0.1,0.2,0.3,0.4", &sheet, &["--width", "60", "--height", "40"]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(
@@ -544,8 +508,7 @@ fn a_partial_file_a_killed_process_left_is_removed_by_the_next_write() {
     let abandoned = folder.path().join("out.png.partial-4194304");
     std::fs::write(&abandoned, b"half an image").unwrap();
     let fig1 = root().join("assets/scenes/fig1-lambert.toml");
-    let output =
-        vk_render(&["render", fig1.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "60", "--height", "40"]);
+    let output = render_to(&fig1, &out, &["--width", "60", "--height", "40"]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     assert!(out.exists() && !abandoned.exists(), "the abandoned partial file is still there");
 }

@@ -87,13 +87,12 @@ impl ForwardPass {
     /// # Errors
     /// `Error::Vulkan` if the driver refuses a pipeline.
     pub fn pipelines(&mut self, keys: &[PipelineKey]) -> Result<Vec<vk::Pipeline>> {
-        let mut missing: Vec<PipelineKey> = keys.iter().filter(|k| !self.pipelines.contains_key(k)).copied().collect();
-        missing.sort_by_key(|k| format!("{k:?}"));
-        missing.dedup();
-        for key in missing {
-            let pipeline = self.build(&key)?;
-            log::debug!("built the forward pipeline for {key:?}");
-            self.pipelines.insert(key, pipeline);
+        for key in keys {
+            if !self.pipelines.contains_key(key) {
+                let pipeline = self.build(key)?;
+                log::debug!("built the forward pipeline for {key:?}");
+                self.pipelines.insert(*key, pipeline);
+            }
         }
         Ok(keys.iter().map(|key| self.pipelines[key].raw).collect())
     }
