@@ -391,7 +391,9 @@ fn zero_columns_and_an_id_map_over_the_image_are_refused() {
     let fig1 = root().join("assets/scenes/fig1-lambert.toml");
     let fig1 = fig1.to_str().unwrap();
     let output = sweep_grey_kd("0.1", &sheet, &["--columns", "0"]);
-    assert!(!output.status.success() && String::from_utf8_lossy(&output.stderr).contains("--columns"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim_end(), "error: invalid value '0' for '--columns <COLUMNS>': 0 is not in 1..=64");
     let image = folder.path().join("traced.png");
     let same = folder.path().join("./traced.png");
     let output = vk_render(&["reference", fig1, "-o", image.to_str().unwrap(), "--ids", same.to_str().unwrap()]);
@@ -399,6 +401,23 @@ fn zero_columns_and_an_id_map_over_the_image_are_refused() {
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("the same file as -o"), "{stderr}");
     assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0, "a file was written");
+}
+
+#[test]
+fn a_bad_command_line_is_one_line_with_status_2() {
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    let fig1 = fig1.to_str().unwrap();
+    for (args, needle) in [
+        (vec!["render", fig1], "the following required arguments were not provided: --output <OUT>"),
+        (vec!["render", fig1, "-o", "x.png", "--width", "wide"], "invalid value 'wide' for '--width <WIDTH>'"),
+        (vec!["draw", fig1], "unrecognized subcommand 'draw'"),
+    ] {
+        let output = vk_render(&args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.starts_with("error: ") && stderr.contains(needle), "{args:?}: {stderr}");
+    }
 }
 
 #[test]
