@@ -1,0 +1,38 @@
+//! `vk-render render`: one scene to a PNG or an EXR.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::{warn, ImageArgs};
+use vk_render::output::{write_image, write_png, OutputFormat};
+use vk_render::{Renderer, RendererOptions, Scene};
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// The scene file (TOML, SCENE_FORMAT version 1).
+    scene: PathBuf,
+
+    /// The output image: .png or .exr.
+    #[arg(short, long, value_name = "OUT")]
+    output: PathBuf,
+
+    #[command(flatten)]
+    image: ImageArgs,
+}
+
+/// Renders the scene and writes the image.
+pub fn run(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
+    let overrides = args.image.overrides();
+    // Everything that can be checked without a device is checked before one is opened.
+    let scene = Scene::load(&args.scene, &overrides)?;
+    OutputFormat::for_path(&args.output)?;
+    warn(&scene);
+    let mut renderer = Renderer::new(options)?;
+    match OutputFormat::for_path(&args.output)? {
+        OutputFormat::Png => write_png(&renderer.render_rgb8(&scene)?, &args.output)?,
+        OutputFormat::Exr => write_image(&renderer.render(&scene)?, &scene.image, &args.output)?,
+    }
+    log::info!("wrote {}", args.output.display());
+    Ok(())
+}
