@@ -5,7 +5,9 @@
 //! [`vulkan`], and [`output`] applies the output transform and writes PNG or EXR files. [`brdf`] is the
 //! Rust mirror of the GLSL reflectance models in `shaders/brdf/`.
 
+pub mod analysis;
 pub mod brdf;
+pub mod chart;
 pub mod compare;
 pub mod error;
 pub mod figures;

@@ -44,6 +44,12 @@ enum Command {
     Preview(commands::preview::PreviewArgs),
     /// Render every figure of the practical and one labelled contact sheet per figure into a folder.
     Figures(commands::figures::FiguresArgs),
+    /// Plot a scene's materials: lobes, directional albedos (pictures or CSV, computed on the GPU by the
+    /// very GLSL that renders).
+    Plot(commands::plot::PlotArgs),
+    /// The white furnace as a table: each material's largest directional albedo, and its model's made white
+    /// over a grid of its main parameter, flagged where energy is created or lost.
+    Furnace(commands::furnace::FurnaceArgs),
     /// List the Vulkan devices and which one is used by default.
     Devices,
 }
@@ -120,6 +126,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Reference(args) => commands::reference::run(args),
         Command::Sweep(args) => commands::sweep::run(args, options),
         Command::Figures(args) => commands::figures::run(args, options),
+        Command::Plot(args) => commands::plot::run(args, options),
+        Command::Furnace(args) => commands::furnace::run(args, options),
         #[cfg(feature = "preview")]
         Command::Preview(args) => commands::preview::run(args, options),
     }

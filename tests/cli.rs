@@ -6,28 +6,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use common::{root, temp_dir};
-
-/// Runs vk-render with validation, failing the test if it has not exited within two minutes (a hang must
-/// fail a test, not stall it).
-fn vk_render(args: &[&str]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
-        .arg("--validate")
-        .args(args)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("run vk-render");
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
-    while child.try_wait().expect("wait for vk-render").is_none() {
-        if std::time::Instant::now() > deadline {
-            let _ = child.kill();
-            panic!("vk-render {args:?} hung: killed after two minutes");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    child.wait_with_output().expect("vk-render's output")
-}
+use common::{root, temp_dir, vk_render};
 
 /// A scene file in `folder` made from Figure 1 with `edit` applied to its text.
 fn scene_file(folder: &Path, edit: impl Fn(&str) -> String) -> PathBuf {

@@ -3,6 +3,8 @@
 
 pub mod devices;
 pub mod figures;
+pub mod furnace;
+pub mod plot;
 #[cfg(feature = "preview")]
 pub mod preview;
 pub mod reference;
@@ -10,10 +12,12 @@ pub mod render;
 mod sheets;
 pub mod sweep;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use vk_render::analysis::{select_materials, NamedBrdf};
+use vk_render::chart::ChartFile;
 use vk_render::{Override, Scene};
 
 /// Options that override `[image]` and any other value of the scene(s).
@@ -31,9 +35,16 @@ pub struct ImageArgs {
     #[arg(long)]
     samples: Option<i64>,
 
+    #[command(flatten)]
+    set: SetArgs,
+}
+
+/// `--set`: overrides of any value of the scene.
+#[derive(Args)]
+pub struct SetArgs {
     /// Override one scene value by its dotted path, e.g. material.grey.kd=0.8 or light.0.power=30.
     #[arg(long = "set", value_name = "KEY=VALUE")]
-    overrides: Vec<Override>,
+    pub overrides: Vec<Override>,
 }
 
 impl ImageArgs {
@@ -45,7 +56,7 @@ impl ImageArgs {
                 overrides.push(Override::new(format!("image.{key}"), value));
             }
         }
-        overrides.extend(self.overrides.iter().cloned());
+        overrides.extend(self.set.overrides.iter().cloned());
         overrides
     }
 }
@@ -64,4 +75,47 @@ pub fn names_the_same_file(a: &Path, b: &Path) -> bool {
         folder.canonicalize().ok().map(|folder| folder.join(path.file_name().unwrap_or_default()))
     };
     resolved(a).is_some() && resolved(a) == resolved(b)
+}
+
+/// What every analysis command takes: a scene, which of its materials, `--set`, and the file to write.
+#[derive(Args)]
+pub struct StudyArgs {
+    /// The scene file whose [material.NAME] tables are studied (objects and lights are not needed).
+    pub scene: PathBuf,
+
+    /// The materials to study, by name, separated by commas (default: every one the scene defines).
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',')]
+    pub material: Option<Vec<String>>,
+
+    /// The file to write: .png or .svg (the picture) or .csv (its numbers).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+
+    #[command(flatten)]
+    pub set: SetArgs,
+}
+
+/// The kinds of file an analysis command writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StudyFile {
+    Chart(ChartFile),
+    Csv,
+}
+
+impl StudyArgs {
+    /// The scene and the materials to study, checked before a device is opened.
+    pub fn materials(&self) -> anyhow::Result<Vec<NamedBrdf>> {
+        let scene = Scene::load(&self.scene, &self.set.overrides)?;
+        Ok(select_materials(&scene, self.material.as_deref())?)
+    }
+
+    /// What `-o` names: a picture or a table.
+    pub fn output_file(&self) -> anyhow::Result<StudyFile> {
+        let csv = self.output.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+        match ChartFile::for_path(&self.output) {
+            Some(chart) => Ok(StudyFile::Chart(chart)),
+            None if csv => Ok(StudyFile::Csv),
+            None => anyhow::bail!("{}: unsupported output type (use .png, .svg or .csv)", self.output.display()),
+        }
+    }
 }

@@ -24,8 +24,8 @@ use crate::vulkan::{
 use forward::{ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuFrame, GpuObject, GpuPointLight};
 use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
-pub use probe::ProbeCase;
 use probe::{read_vec3s, ProbePass};
+pub use probe::{AlbedoCell, AlbedoJob, CellIntegral, ProbeCase};
 use scene_data::{SceneData, SceneValues};
 use shadow::{cube_face_views, faces_read_by, FaceKey, ShadowCubes, ShadowPass, DISTANCE_FORMAT};
 use targets::{Targets, BYTES_PER_PIXEL};
@@ -279,11 +279,25 @@ impl Renderer {
     /// # Errors
     /// `Error::Shader`, `Error::Vulkan` or `Error::Allocation`; `Error::Validation` if the layer complained.
     pub fn probe_brdfs(&mut self, cases: &[ProbeCase]) -> Result<Vec<Vec3>> {
+        self.with_probe(|probe| probe.run(cases))
+    }
+
+    /// Integrates f_r cos(theta_i) of `brdf_eval` over every cell of the hemisphere on the GPU (the albedo
+    /// probe), as float32.
+    ///
+    /// # Errors
+    /// As [`Renderer::probe_brdfs`].
+    pub fn probe_albedo_cells(&mut self, jobs: &[AlbedoJob], cells: &[AlbedoCell]) -> Result<Vec<CellIntegral>> {
+        self.with_probe(|probe| probe.integrate(jobs, cells))
+    }
+
+    /// Runs `work` with the probe pass, built on first use and kept.
+    fn with_probe<T>(&mut self, work: impl FnOnce(&ProbePass) -> Result<T>) -> Result<T> {
         let probe = match self.probe.take() {
             Some(probe) => probe,
             None => ProbePass::new(&self.device, &self.compiler)?,
         };
-        let results = probe.run(cases);
+        let results = work(&probe);
         self.probe = Some(probe);
         let results = results?;
         self.check_validation()?;

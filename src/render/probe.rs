@@ -1,5 +1,5 @@
-//! The BRDF probe pass: `brdf_eval` of the GLSL evaluated on the GPU for a list of cases, read back as
-//! float32, to be compared with the Rust mirror.
+//! The BRDF probe pass: `brdf_eval` of the GLSL evaluated on the GPU for a list of cases (to be compared with
+//! the Rust mirror, and plotted), or integrated over cells of the hemisphere (albedos), read back as float32.
 
 use std::sync::Arc;
 
@@ -9,8 +9,8 @@ use gpu_allocator::MemoryLocation;
 
 use super::gpu_types::GpuMaterial;
 use crate::brdf::Brdf;
-use crate::error::Result;
-use crate::vulkan::{BufferDesc, Descriptor, Device, Pipeline, ShaderCompiler};
+use crate::error::{Error, Result};
+use crate::vulkan::{Buffer, BufferDesc, Descriptor, Device, Pipeline, ShaderCompiler};
 
 /// One evaluation: f_r(wi, wo) of a material at a surface with normal n.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,33 +31,67 @@ struct GpuProbeCase {
     wo: [f32; 4],
 }
 
+/// One job of the albedo probe: a material seen from `wo`, in the frame n = +z, wo in the xz-plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlbedoJob {
+    pub brdf: Brdf,
+    pub wo: Vec3,
+}
+
+/// One cell of the hemisphere of wi for a job: theta_i and phi_i from the first bound to the second
+/// (radians).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlbedoCell {
+    pub job: u32,
+    pub theta: (f32, f32),
+    pub phi: (f32, f32),
+}
+
+/// The integral of f_r cos(theta_i) over a cell by the 15-point Gauss-Kronrod rule in both angles, and by
+/// the 7-point Gauss rule embedded in it: their difference bounds the error of the coarser one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellIntegral {
+    pub kronrod: Vec3,
+    pub gauss: Vec3,
+}
+
+/// `AlbedoJob` of `shaders/brdf_albedo.comp` (std430).
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct GpuAlbedoJob {
+    material: GpuMaterial,
+    wo: [f32; 4],
+}
+
+/// `AlbedoCell` of `shaders/brdf_albedo.comp` (std430).
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct GpuAlbedoCell {
+    bounds: [f32; 4],
+    job: u32,
+    pad: [u32; 3],
+}
+
 const WORKGROUP_SIZE: u32 = 64;
 
-/// The compiled probe shader and its pipeline.
+/// The probe shaders and their pipelines: `brdf_eval` at given cases, and integrated over cells.
 pub struct ProbePass {
-    pipeline: Pipeline,
+    eval: Pipeline,
+    albedo: Pipeline,
     device: Arc<Device>,
 }
 
 impl ProbePass {
-    /// Compiles `brdf_probe.comp` and builds its pipeline.
+    /// Compiles `brdf_probe.comp` and `brdf_albedo.comp` and builds their pipelines.
     ///
     /// # Errors
     /// `Error::Shader` or `Error::Vulkan`.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler) -> Result<Self> {
-        let spirv = compiler.compile("brdf_probe.comp")?;
-        let module = device.create_shader_module(&spirv, "brdf_probe.comp")?;
-        let binding = |index: u32| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(index)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE)
-        };
-        let push = [vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 4 }];
-        let layout = device.create_pipeline_layout(&[&[binding(0), binding(1)]], &push, "probe layout")?;
-        let pipeline = device.create_compute_pipeline(&module, &layout, "brdf probe")?;
-        Ok(Self { pipeline, device: device.clone() })
+        Ok(Self {
+            eval: storage_pipeline(device, compiler, "brdf_probe.comp", 2)?,
+            albedo: storage_pipeline(device, compiler, "brdf_albedo.comp", 3)?,
+            device: device.clone(),
+        })
     }
 
     /// Evaluates every case on the GPU.
@@ -65,10 +99,6 @@ impl ProbePass {
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
     pub fn run(&self, cases: &[ProbeCase]) -> Result<Vec<Vec3>> {
-        if cases.is_empty() {
-            return Ok(Vec::new());
-        }
-        let device = &self.device;
         let gpu_cases: Vec<GpuProbeCase> = cases
             .iter()
             .map(|c| GpuProbeCase {
@@ -78,32 +108,69 @@ impl ProbePass {
                 wo: c.wo.extend(0.0).into(),
             })
             .collect();
-        let input = device.create_buffer_with_data(&gpu_cases, vk::BufferUsageFlags::STORAGE_BUFFER, "probe cases")?;
+        let bytes = self.dispatch(&self.eval, &[self.input(&gpu_cases, "probe cases")?], cases.len(), 16)?;
+        Ok(read_vec3s(&bytes, 16))
+    }
+
+    /// Integrates f_r cos(theta_i) over every cell on the GPU.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` or `Error::Allocation`.
+    pub fn integrate(&self, jobs: &[AlbedoJob], cells: &[AlbedoCell]) -> Result<Vec<CellIntegral>> {
+        let gpu_jobs: Vec<GpuAlbedoJob> = jobs
+            .iter()
+            .map(|job| GpuAlbedoJob { material: GpuMaterial::from(&job.brdf), wo: job.wo.extend(0.0).into() })
+            .collect();
+        let gpu_cells: Vec<GpuAlbedoCell> = cells
+            .iter()
+            .map(|cell| GpuAlbedoCell {
+                bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1],
+                job: cell.job,
+                pad: [0; 3],
+            })
+            .collect();
+        let inputs = [self.input(&gpu_jobs, "albedo jobs")?, self.input(&gpu_cells, "albedo cells")?];
+        let bytes = self.dispatch(&self.albedo, &inputs, cells.len(), 32)?;
+        let estimates = read_vec3s(&bytes, 16);
+        Ok(estimates.chunks_exact(2).map(|pair| CellIntegral { kronrod: pair[0], gauss: pair[1] }).collect())
+    }
+
+    fn input<T: Copy>(&self, data: &[T], name: &str) -> Result<Buffer> {
+        self.device.create_buffer_with_data(data, vk::BufferUsageFlags::STORAGE_BUFFER, name)
+    }
+
+    /// Runs `pipeline` once per element over `inputs` (its first bindings) and a results buffer of
+    /// `result_size` bytes per element (its last), and returns the results' bytes.
+    fn dispatch(&self, pipeline: &Pipeline, inputs: &[Buffer], count: usize, result_size: usize) -> Result<Vec<u8>> {
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let device = &self.device;
         let output = device.create_buffer(
             BufferDesc {
-                size: (cases.len() * 16) as u64,
+                size: (count * result_size) as u64,
                 usage: vk::BufferUsageFlags::STORAGE_BUFFER,
                 location: MemoryLocation::GpuToCpu,
             },
             "probe results",
         )?;
+        let buffers: Vec<&Buffer> = inputs.iter().chain([&output]).collect();
         let pool = device.create_descriptor_pool(
             1,
-            &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 2 }],
+            &[vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: buffers.len() as u32,
+            }],
         )?;
-        let layout = &self.pipeline.layout;
-        let set = pool.allocate_set(
-            layout.set_layouts[0],
-            &[
-                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &input),
-                Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &output),
-            ],
-        )?;
-        let count = cases.len() as u32;
+        let layout = &pipeline.layout;
+        let descriptors: Vec<Descriptor> =
+            buffers.iter().map(|buffer| Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, buffer)).collect();
+        let set = pool.allocate_set(layout.set_layouts[0], &descriptors)?;
+        let count = u32::try_from(count).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
         device.submit_and_wait(|cmd| {
             // SAFETY: every handle recorded here lives until submit_and_wait has waited for the work.
             unsafe {
-                device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw);
+                device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
                 device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout.raw, 0, &[set], &[]);
                 device.raw.cmd_push_constants(cmd, layout.raw, vk::ShaderStageFlags::COMPUTE, 0, &count.to_ne_bytes());
                 device.raw.cmd_dispatch(cmd, count.div_ceil(WORKGROUP_SIZE), 1, 1);
@@ -115,8 +182,26 @@ impl ProbePass {
             );
             Ok(())
         })?;
-        Ok(read_vec3s(output.bytes()?, 16))
+        Ok(output.bytes()?.to_vec())
     }
+}
+
+/// A compute pipeline over `bindings` storage buffers with the element count as its push constant.
+fn storage_pipeline(device: &Arc<Device>, compiler: &ShaderCompiler, file: &str, bindings: u32) -> Result<Pipeline> {
+    let spirv = compiler.compile(file)?;
+    let module = device.create_shader_module(&spirv, file)?;
+    let bindings: Vec<_> = (0..bindings)
+        .map(|index| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(index)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::COMPUTE)
+        })
+        .collect();
+    let push = [vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 4 }];
+    let layout = device.create_pipeline_layout(&[&bindings], &push, &format!("{file} layout"))?;
+    device.create_compute_pipeline(&module, &layout, file)
 }
 
 /// The first three f32 of each `stride`-byte element.

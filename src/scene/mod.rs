@@ -6,6 +6,7 @@ mod file;
 mod overrides;
 mod validate;
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
@@ -38,6 +39,9 @@ pub struct Scene {
     pub camera: Camera,
     pub lights: Vec<PointLight>,
     pub objects: Vec<Object>,
+    /// Every `[material.NAME]` as the file defines it, by name, used or not (the analysis commands study
+    /// them; each object holds its own copy, which the preview edits).
+    pub materials: BTreeMap<String, Brdf>,
 }
 
 /// `[image]`: the output's size, sampling and output transform.

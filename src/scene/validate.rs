@@ -38,7 +38,7 @@ pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
         .collect::<Check<BTreeMap<_, _>>>()?;
     let objects =
         raw.objects.iter().enumerate().map(|(i, o)| object(i, o, &materials, path)).collect::<Check<Vec<_>>>()?;
-    Ok(Scene { source: path.to_path_buf(), image, camera, lights, objects })
+    Ok(Scene { source: path.to_path_buf(), image, camera, lights, objects, materials })
 }
 
 fn image(s: &ImageSection) -> Check<ImageSettings> {

@@ -5,6 +5,7 @@
 pub mod golden;
 
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 use std::sync::{Mutex, MutexGuard, OnceLock};
 
 use vk_render::compare::{compare, silhouette_band, write_failure_images, Comparison};
@@ -90,4 +91,25 @@ pub fn temp_dir() -> tempfile::TempDir {
 /// Whether a path exists.
 pub fn exists(path: &Path) -> bool {
     path.exists()
+}
+
+/// Runs vk-render with validation, failing the test if it has not exited within two minutes (a hang must
+/// fail a test, not stall it).
+pub fn vk_render(args: &[&str]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
+        .arg("--validate")
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run vk-render");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while child.try_wait().expect("wait for vk-render").is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("vk-render {args:?} hung: killed after two minutes");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("vk-render's output")
 }

@@ -1,0 +1,163 @@
+//! The analysis commands as a user runs them: `plot lobe`, `plot albedo` and `furnace` write the file `-o`
+//! names (.png, .svg, .csv) in the shape scripts rely on, and every bad input is one clear line, a non-zero
+//! exit status and no file.
+
+mod common;
+
+use std::path::Path;
+
+use common::{root, temp_dir, vk_render};
+
+fn fig2() -> String {
+    root().join("assets/scenes/fig2-oren-nayar-sigma-0.6.toml").to_str().unwrap().to_string()
+}
+
+/// Runs the command, which must succeed, and returns its standard output.
+fn succeeds(args: &[&str]) -> String {
+    let output = vk_render(args);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{args:?}: {stderr}");
+    String::from_utf8_lossy(&output.stdout).to_string()
+}
+
+/// A CSV's header and its rows of numbers.
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(str::to_string).collect();
+    let rows = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    (header, rows)
+}
+
+#[test]
+fn plot_lobe_writes_its_csv_png_and_svg() {
+    let folder = temp_dir();
+    let csv = folder.path().join("lobe.csv");
+    let fig2 = fig2();
+    succeeds(&["plot", "lobe", &fig2, "--theta-i", "30,60", "-o", csv.to_str().unwrap()]);
+    let (header, rows) = read_csv(&csv);
+    assert_eq!(header, ["theta_o", "matte_r", "matte_g", "matte_b", "red_r", "red_g", "red_b"]);
+    assert_eq!(rows.len(), 361, "theta_o from -90 to 90 every half degree");
+    assert_eq!((rows[0][0], rows[180][0], rows[360][0]), (-90.0, 0.0, 90.0));
+    // The red plane is Lambert: f_r cos(theta_o) = cos(theta_o) / pi in red, 0 in green.
+    let at_60 = &rows[300];
+    assert_eq!(at_60[0], 60.0);
+    assert!((at_60[4] - 0.5 / std::f64::consts::PI).abs() < 1e-6 && at_60[5] == 0.0, "{at_60:?}");
+    for picture in ["lobe.png", "lobe.svg"] {
+        let path = folder.path().join(picture);
+        succeeds(&[
+            "plot",
+            "lobe",
+            &fig2,
+            "--theta-i",
+            "30,60",
+            "--log",
+            "--channel",
+            "r",
+            "-o",
+            path.to_str().unwrap(),
+        ]);
+        if picture.ends_with(".png") {
+            let image = image::open(&path).unwrap().to_rgb8();
+            assert_eq!(image.dimensions(), (1100, 980));
+            let coloured = image.pixels().filter(|p| p.0.iter().max() != p.0.iter().min()).count();
+            assert!(coloured > 5000, "only {coloured} coloured pixels: no curves drawn?");
+        } else {
+            let svg = std::fs::read_to_string(&path).unwrap();
+            assert!(svg.starts_with("<svg") && svg.contains("matte: oren-nayar kd 0.5, sigma 0.6"), "{}", &svg[..200]);
+        }
+    }
+}
+
+#[test]
+fn plot_albedo_states_its_accuracy_and_writes_one_row_a_degree() {
+    let folder = temp_dir();
+    let csv = folder.path().join("albedo.csv");
+    let stdout = succeeds(&["plot", "albedo", &fig2(), "--material", "red", "-o", csv.to_str().unwrap()]);
+    assert!(stdout.contains("each within") && stdout.contains("asked: 1e-5"), "{stdout}");
+    let (header, rows) = read_csv(&csv);
+    assert_eq!(header, ["theta_o", "red_r", "red_g", "red_b"]);
+    assert_eq!(rows.len(), 91);
+    assert!(rows.iter().all(|r| (r[1] - 1.0).abs() < 1e-5 && r[2] == 0.0), "Lambert's albedo is kd");
+    let png = folder.path().join("albedo.png");
+    succeeds(&["plot", "albedo", &fig2(), "-o", png.to_str().unwrap()]);
+    assert_eq!(image::open(&png).unwrap().to_rgb8().dimensions(), (1100, 620));
+}
+
+#[test]
+fn furnace_writes_its_table() {
+    let folder = temp_dir();
+    let csv = folder.path().join("furnace.csv");
+    let stdout = succeeds(&["furnace", &fig2(), "--material", "matte", "-o", csv.to_str().unwrap()]);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("material,model and parameters,max albedo,error bound,theta_o,verdict"));
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 1 + 9, "the material, then Oren-Nayar's white grid over sigma");
+    assert!(rows[0].starts_with("matte,\"oren-nayar kd 0.5, sigma 0.6\",0.459"), "{}", rows[0]);
+    assert!(rows
+        .iter()
+        .any(|r| r.starts_with("white,\"oren-nayar kd 1, sigma 0.2\",1.015") && r.contains("creates energy")));
+    assert!(stdout.lines().count() == 10 && stdout.contains("creates energy"), "{stdout}");
+    let png = folder.path().join("furnace.png");
+    succeeds(&["furnace", &fig2(), "--material", "matte", "-o", png.to_str().unwrap()]);
+    assert!(image::open(&png).is_ok());
+}
+
+/// The command must fail with exit status `code`, one line holding every needle, and no file in `folder`.
+fn fails(folder: &Path, args: &[&str], code: i32, needles: &[&str]) {
+    let output = vk_render(args);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(code), "{args:?}: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+    for needle in needles {
+        assert!(stderr.contains(needle), "{args:?}: stderr lacks {needle:?}: {stderr}");
+    }
+    assert_eq!(std::fs::read_dir(folder).unwrap().count(), 0, "{args:?} left a file");
+}
+
+#[test]
+fn bad_analysis_inputs_are_one_line_and_leave_nothing() {
+    let folder = temp_dir();
+    let out = |name: &str| folder.path().join(name).to_str().unwrap().to_string();
+    let fig2 = fig2();
+    fails(
+        folder.path(),
+        &["plot", "albedo", &fig2, "--material", "velvet", "-o", &out("a.csv")],
+        1,
+        &["fig2-oren-nayar-sigma-0.6.toml", "--material velvet: no such material", "matte, red"],
+    );
+    for (angle, shown) in [("90", "90"), ("-5", "-5"), ("nan", "NaN")] {
+        fails(
+            folder.path(),
+            &["plot", "lobe", &fig2, "--theta-i", &format!("30,{angle}"), "-o", &out("l.png")],
+            1,
+            &[&format!("--theta-i {shown}"), "from 0 to below 90 degrees"],
+        );
+    }
+    fails(
+        folder.path(),
+        &["plot", "lobe", &fig2, "--theta-i", "30", "-o", &out("l.txt")],
+        1,
+        &["l.txt", ".png, .svg or .csv"],
+    );
+    fails(
+        folder.path(),
+        &["plot", "lobe", &fig2, "--theta-i", "30", "--channel", "alpha", "-o", &out("l.png")],
+        2,
+        &["alpha"],
+    );
+    fails(
+        folder.path(),
+        &["furnace", &fig2, "--set", "material.matte.sigma=-1", "-o", &out("f.csv")],
+        1,
+        &["material.matte.sigma"],
+    );
+    let empty = folder.path().join("empty.toml");
+    std::fs::write(&empty, "# no materials\n").unwrap();
+    let result = vk_render(&["furnace", empty.to_str().unwrap(), "-o", &out("f.csv")]);
+    std::fs::remove_file(&empty).unwrap();
+    assert_eq!(result.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&result.stderr).contains("defines no [material.NAME]"));
+    assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0);
+}
