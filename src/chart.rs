@@ -371,3 +371,99 @@ impl Chart for TableChart {
         Ok(())
     }
 }
+
+/// One false-colour panel: `cells` x `cells` values over [0, 90] x [0, 90] degrees, rows from the bottom;
+/// `None` is drawn grey (no value there).
+#[derive(Clone, Debug)]
+pub struct HeatMap {
+    pub label: String,
+    pub cells: usize,
+    pub values: Vec<Option<f64>>,
+}
+
+/// Heat maps side by side on one colour scale (viridis), with its colour bar: BRDF Explorer's image slice.
+#[derive(Clone, Debug)]
+pub struct HeatMapChart {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    /// What the colours are, for the colour bar.
+    pub quantity: String,
+    pub panels: Vec<HeatMap>,
+    pub range: (f64, f64),
+}
+
+const PANEL: u32 = 460;
+const COLOUR_BAR: u32 = 150;
+const NO_VALUE: RGBColor = RGBColor(150, 150, 150);
+
+impl HeatMapChart {
+    fn colour(&self, value: f64) -> RGBColor {
+        let (low, high) = self.range;
+        ViridisRGB::get_color(((value - low) / (high - low)).clamp(0.0, 1.0))
+    }
+}
+
+impl Chart for HeatMapChart {
+    fn size(&self) -> (u32, u32) {
+        (PANEL * self.panels.len() as u32 + COLOUR_BAR, PANEL + 60)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Drawn<DB> {
+        area.fill(&WHITE)?;
+        let area = area.titled(&self.title, text(20.0))?;
+        let (panels, bar) = area.split_horizontally(PANEL * self.panels.len() as u32);
+        for (panel, map) in panels.split_evenly((1, self.panels.len())).iter().zip(&self.panels) {
+            let mut chart = ChartBuilder::on(panel)
+                .caption(&map.label, text(15.0))
+                .margin(12)
+                .x_label_area_size(44)
+                .y_label_area_size(56)
+                .build_cartesian_2d(0.0..90.0, 0.0..90.0)?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .x_labels(7)
+                .y_labels(7)
+                .x_label_formatter(&|x| short_number(*x))
+                .y_label_formatter(&|y| short_number(*y))
+                .x_desc(&self.x_label)
+                .y_desc(&self.y_label)
+                .label_style(text(13.0))
+                .axis_desc_style(text(14.0))
+                .draw()?;
+            let step = 90.0 / map.cells as f64;
+            chart.draw_series(map.values.iter().enumerate().map(|(k, value)| {
+                let (row, column) = ((k / map.cells) as f64, (k % map.cells) as f64);
+                let colour = value.map_or(NO_VALUE, |v| self.colour(v));
+                Rectangle::new(
+                    [(column * step, row * step), ((column + 1.0) * step, (row + 1.0) * step)],
+                    colour.filled(),
+                )
+            }))?;
+        }
+        let (low, high) = self.range;
+        let mut chart = ChartBuilder::on(&bar)
+            .margin_top(40)
+            .margin_bottom(56)
+            .margin_right(8)
+            .y_label_area_size(86)
+            .build_cartesian_2d(0.0..1.0, low..high)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_label_formatter(&|y| short_number(*y))
+            .y_desc(&self.quantity)
+            .label_style(text(13.0))
+            .axis_desc_style(text(14.0))
+            .draw()?;
+        let steps = 256;
+        let band = (high - low) / f64::from(steps);
+        chart.draw_series((0..steps).map(|k| {
+            let from = low + f64::from(k) * band;
+            Rectangle::new([(0.0, from), (1.0, from + band)], self.colour(from + band / 2.0).filled())
+        }))?;
+        Ok(())
+    }
+}

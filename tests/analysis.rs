@@ -226,3 +226,52 @@ fn lobes_equal_the_rust_mirror_point_by_point() {
         }
     }
 }
+
+#[test]
+fn rusinkiewicz_directions_are_the_half_and_difference_angles() {
+    use vk_render::analysis::slice::rusinkiewicz_directions;
+    let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-6;
+    // theta_d = 0: wi = wo = h.
+    let (wi, wo) = rusinkiewicz_directions(0.5, 0.0, 1.0);
+    assert!(close(wi, wo) && close(wi, Vec3::new(0.5f32.sin(), 0.0, 0.5f32.cos())), "{wi} {wo}");
+    // theta_h = 0: h = n, wo is wi mirrored about n, both at theta_d from it.
+    let (wi, wo) = rusinkiewicz_directions(0.0, 0.7, 0.3);
+    assert!(close(wo, Vec3::new(-wi.x, -wi.y, wi.z)) && (wi.z - 0.7f32.cos()).abs() < 1e-6, "{wi} {wo}");
+    // In general h is the normalised sum and wi . h = cos(theta_d).
+    let (theta_h, theta_d) = (0.4f32, 0.9f32);
+    let (wi, wo) = rusinkiewicz_directions(f64::from(theta_h), f64::from(theta_d), 1.2);
+    let h = (wi + wo).normalize();
+    assert!((h.z - theta_h.cos()).abs() < 1e-6 && (wi.dot(h) - theta_d.cos()).abs() < 1e-6, "{wi} {wo}");
+}
+
+#[test]
+fn slices_equal_the_rust_mirror() {
+    use vk_render::analysis::slice::{rusinkiewicz_directions, slices};
+    let brdfs = [
+        Brdf::BlinnPhong { kd: Vec3::splat(0.2), ks: Vec3::splat(0.5), shininess: 16.0 },
+        Brdf::CookTorrance { kd: GOLD, f0: GOLD, roughness: 0.3, metalness: 0.5, diffuse: DiffuseModel::OrenNayar },
+    ];
+    for phi_d in [90.0f64, 20.0] {
+        let gpu = slices(&mut common::renderer(), &brdfs, phi_d, 30).expect("probe");
+        for (brdf, slice) in brdfs.iter().zip(&gpu) {
+            for (k, value) in slice.values.iter().enumerate() {
+                let (theta_h, theta_d) = (slice.angle(k % 30).to_radians(), slice.angle(k / 30).to_radians());
+                let (wi, wo) = rusinkiewicz_directions(theta_h, theta_d, phi_d.to_radians());
+                match value {
+                    None => assert!(wi.z <= 0.0 || wo.z <= 0.0, "no value above the horizon"),
+                    Some(value) => {
+                        let rust = brdf.eval(Vec3::Z, wi, wo);
+                        let error = (*value - rust).abs().max_element();
+                        assert!(
+                            error <= 1e-4 * rust.abs().max_element().max(0.01),
+                            "{brdf:?} cell {k}: {value} vs {rust}"
+                        );
+                    }
+                }
+            }
+            if phi_d == 20.0 {
+                assert!(slice.values.iter().any(Option::is_none), "at phi_d 20 part of the slice is below the horizon");
+            }
+        }
+    }
+}

@@ -161,3 +161,17 @@ fn bad_analysis_inputs_are_one_line_and_leave_nothing() {
     assert!(String::from_utf8_lossy(&result.stderr).contains("defines no [material.NAME]"));
     assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0);
 }
+
+#[test]
+fn plot_slice_writes_a_cell_a_degree_in_csv_and_a_picture() {
+    let folder = temp_dir();
+    let csv = folder.path().join("slice.csv");
+    succeeds(&["plot", "slice", &fig2(), "--phi-d", "45", "-o", csv.to_str().unwrap()]);
+    let (header, rows) = read_csv(&csv);
+    assert_eq!(header, ["theta_h", "theta_d", "matte_r", "matte_g", "matte_b", "red_r", "red_g", "red_b"]);
+    assert_eq!(rows.len(), 90 * 90);
+    assert_eq!((rows[0][0], rows[0][1], rows[91][0], rows[91][1]), (0.5, 0.5, 1.5, 1.5));
+    let png = folder.path().join("slice.png");
+    succeeds(&["plot", "slice", &fig2(), "--log", "-o", png.to_str().unwrap()]);
+    assert_eq!(image::open(&png).unwrap().to_rgb8().dimensions(), (2 * 460 + 150, 520));
+}

@@ -6,6 +6,7 @@
 pub mod albedo;
 pub mod furnace;
 pub mod lobe;
+pub mod slice;
 
 use glam::Vec3;
 

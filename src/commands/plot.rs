@@ -1,13 +1,17 @@
-//! `vk-render plot`: lobes and directional albedos of a scene's materials, as pictures (.png, .svg) or
+//! `vk-render plot`: lobes, directional albedos and image slices of a scene's materials, as pictures (.png, .svg) or
 //! numbers (.csv), computed on the GPU by the probe pass.
 
 use clap::{Args, Subcommand, ValueEnum};
+use glam::Vec3;
 
 use super::{StudyArgs, StudyFile};
 use vk_render::analysis::albedo::{albedo_angles, directional_albedos, ALBEDO_TOLERANCE};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
+use vk_render::analysis::slice::slices;
 use vk_render::analysis::{angle_table, describe, rgb, Channel};
-use vk_render::chart::{value_range, write_chart, LineChart, LobeChart, Series, PALETTE};
+use vk_render::chart::{
+    value_range, write_chart, ChartFile, HeatMap, HeatMapChart, LineChart, LobeChart, Series, PALETTE,
+};
 use vk_render::output::write_file;
 use vk_render::{Renderer, RendererOptions};
 
@@ -25,6 +29,9 @@ enum Plot {
     /// Directional albedo rho(theta_o) = integral of f_r cos(theta_i) over the hemisphere, every degree,
     /// integrated on the GPU to a stated accuracy.
     Albedo(AlbedoArgs),
+    /// BRDF Explorer's image slice: f_r over theta_h (x) and theta_d (y) at a fixed phi_d, in false colour
+    /// with a colour bar. A CSV holds theta_h, theta_d, then three columns per material, every degree.
+    Slice(SliceArgs),
 }
 
 /// The channel a picture shows (a CSV has all three).
@@ -83,11 +90,30 @@ struct AlbedoArgs {
     channel: ChannelArg,
 }
 
+#[derive(Args)]
+struct SliceArgs {
+    #[command(flatten)]
+    study: StudyArgs,
+
+    /// The difference vector's azimuth phi_d in degrees (90: BRDF Explorer's default).
+    #[arg(long, value_name = "DEGREES", default_value_t = 90.0, allow_negative_numbers = true)]
+    phi_d: f64,
+
+    /// Colour log10(1 + f_r) (the CSV keeps the values).
+    #[arg(long)]
+    log: bool,
+
+    /// The channel the picture shows.
+    #[arg(long, value_enum, default_value = "luminance")]
+    channel: ChannelArg,
+}
+
 /// Runs the plot asked for.
 pub fn run(args: PlotArgs, options: RendererOptions) -> anyhow::Result<()> {
     match args.plot {
         Plot::Lobe(args) => lobe(args, options),
         Plot::Albedo(args) => albedo(args, options),
+        Plot::Slice(args) => slice(args, options),
     }
 }
 
@@ -194,6 +220,73 @@ fn albedo(args: AlbedoArgs, options: RendererOptions) -> anyhow::Result<()> {
         series,
         horizontal_rules: vec![1.0],
         size: (1100, 620),
+    };
+    write_chart(&chart, &args.study.output)?;
+    Ok(())
+}
+
+fn slice(args: SliceArgs, options: RendererOptions) -> anyhow::Result<()> {
+    let materials = args.study.materials()?;
+    let file = args.study.output_file()?;
+    if !args.phi_d.is_finite() {
+        anyhow::bail!("--phi-d {}: not a number of degrees", args.phi_d);
+    }
+    // A cell per pixel of a PNG panel; a cell per degree in a CSV, and in an SVG (a rectangle each).
+    let cells = if file == StudyFile::Chart(ChartFile::Png) { 360 } else { 90 };
+    let mut renderer = Renderer::new(options)?;
+    let brdfs: Vec<_> = materials.iter().map(|m| m.brdf).collect();
+    let slices = slices(&mut renderer, &brdfs, args.phi_d, cells)?;
+    if file == StudyFile::Csv {
+        let mut csv = String::from("theta_h,theta_d");
+        for material in &materials {
+            let name = &material.name;
+            csv.push_str(&format!(",{name}_r,{name}_g,{name}_b"));
+        }
+        csv.push('\n');
+        for k in 0..cells * cells {
+            csv.push_str(&format!("{},{}", slices[0].angle(k % cells), slices[0].angle(k / cells)));
+            for slice in &slices {
+                let [r, g, b] = slice.values[k].map_or([0.0; 3], rgb);
+                csv.push_str(&format!(",{r},{g},{b}"));
+            }
+            csv.push('\n');
+        }
+        write_file(&args.study.output, csv.as_bytes())?;
+        return Ok(());
+    }
+    let channel = Channel::from(args.channel);
+    let shown = |f: Vec3| {
+        let v = channel.of(rgb(f));
+        if args.log {
+            (1.0 + v).log10()
+        } else {
+            v
+        }
+    };
+    let panels: Vec<HeatMap> = materials
+        .iter()
+        .zip(&slices)
+        .map(|(material, slice)| HeatMap {
+            label: format!("{}: {}", material.name, describe(&material.brdf)),
+            cells,
+            values: slice.values.iter().map(|f| f.map(shown)).collect(),
+        })
+        .collect();
+    // The colours span the values up to their 99.5th percentile, so that a few extreme ones (the course's
+    // Phong divides by cos(theta_i) near grazing) do not leave the rest in one colour; above it, the top one.
+    let mut values: Vec<f64> = panels.iter().flat_map(|p| p.values.iter().flatten().copied()).collect();
+    values.sort_by(f64::total_cmp);
+    let clip = values.get(values.len() * 995 / 1000).copied().unwrap_or(0.0);
+    let clipped = values.last().is_some_and(|&top| top > clip * 1.01);
+    let range = value_range(values.iter().filter(|&&v| v <= clip));
+    let quantity = if args.log { "log10(1 + f_r)" } else { "f_r" };
+    let chart = HeatMapChart {
+        title: format!("Image slice: {quantity} ({}) at φd = {}°; grey: below the horizon", channel.name(), args.phi_d),
+        x_label: "θh (degrees)".into(),
+        y_label: "θd (degrees)".into(),
+        quantity: format!("{quantity} ({}){}", channel.name(), if clipped { ", top 0.5% clipped" } else { "" }),
+        panels,
+        range,
     };
     write_chart(&chart, &args.study.output)?;
     Ok(())
