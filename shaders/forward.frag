@@ -18,5 +18,5 @@ void main() {
         out_radiance = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
-    out_radiance = vec4(outgoing_radiance(object, p, normalize(in_world_normal)), 1.0);
+    out_radiance = vec4(pixel_value(object, p, normalize(in_world_normal)), 1.0);
 }

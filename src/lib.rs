@@ -20,6 +20,7 @@ pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod sheet;
+pub mod text;
 pub mod vulkan;
 
 pub use error::{Error, Result};

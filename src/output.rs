@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use crate::error::{Error, Result};
-use crate::scene::{Encoding, ImageSettings, Tonemap};
+use crate::scene::{Encoding, ImageSettings, Tonemap, View};
 
 /// A linear HDR image: RGB radiance per pixel, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -21,21 +21,63 @@ impl HdrImage {
         self.pixels[(y * self.width + x) as usize]
     }
 
-    /// The image after the whole output transform, as 8-bit RGB.
+    /// The image after the whole output transform, as 8-bit RGB; a term view by its [`TermScale`].
     pub fn to_rgb8(&self, settings: &ImageSettings) -> image::RgbImage {
-        let bytes = self
-            .pixels
-            .iter()
-            .flat_map(|c| (*c * settings.exposure).to_array())
-            .map(|c| encode(tonemap(c, settings.tonemap), settings.encoding))
-            .collect();
+        let channels = self.pixels.iter().flat_map(|c| c.to_array());
+        let bytes = match TermScale::of(settings.view, channels.clone()) {
+            None => {
+                channels.map(|c| encode(tonemap(c * settings.exposure, settings.tonemap), settings.encoding)).collect()
+            }
+            Some(scale) => channels.map(|c| scale.level(c)).collect(),
+        };
         image::RgbImage::from_raw(self.width, self.height, bytes).expect("one RGB triple per pixel")
     }
 
-    /// The linear image after exposure, as written to `.exr` files.
-    pub fn exposed(&self, exposure: f32) -> image::Rgb32FImage {
+    /// The linear image as written to `.exr` files: a radiance after exposure, a term view as it is.
+    pub fn exposed(&self, settings: &ImageSettings) -> image::Rgb32FImage {
+        let exposure = if settings.view.is_radiance() { settings.exposure } else { 1.0 };
         let data = self.pixels.iter().flat_map(|c| (*c * exposure).to_array()).collect();
         image::Rgb32FImage::from_raw(self.width, self.height, data).expect("one RGB triple per pixel")
+    }
+}
+
+/// How a term view (not a radiance) becomes 8-bit levels: linearly, without tone map, level = 255 x (value -
+/// low) / (high - low), truncated and clamped. The normal's components span [-1, 1]; every other term
+/// [0, the larger of 1 and the image's largest value], so that terms within [0, 1] (n . l, G, F) read
+/// directly and the others (D, f_r) fill the range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TermScale {
+    pub view: View,
+    pub low: f32,
+    pub high: f32,
+}
+
+impl TermScale {
+    /// The scale of `view` for an image of these channel values; `None` for a radiance (the scene's output
+    /// transform applies).
+    pub fn of(view: View, channels: impl Iterator<Item = f32>) -> Option<Self> {
+        match view {
+            _ if view.is_radiance() => None,
+            View::Normal => Some(Self { view, low: -1.0, high: 1.0 }),
+            _ => {
+                let largest = channels.filter(|c| c.is_finite()).fold(1.0f32, f32::max);
+                Some(Self { view, low: 0.0, high: largest })
+            }
+        }
+    }
+
+    /// One channel's 8-bit level.
+    pub fn level(&self, value: f32) -> u8 {
+        encode((value - self.low) / (self.high - self.low), Encoding::Linear)
+    }
+
+    /// The scale in one line, for the user: `view d: PNG level = 255 x value / 12.7 ...`.
+    pub fn describe(&self) -> String {
+        let span = if self.low == 0.0 { format!("value / {}", self.high) } else { "(value + 1) / 2".to_string() };
+        format!(
+            "view {}: PNG level = 255 x {span}, linear, no tone map (an .exr holds the values themselves)",
+            self.view.name()
+        )
     }
 }
 
@@ -60,6 +102,10 @@ impl TexelOrder {
 /// Writes `linear` (four native-endian f32 a pixel, alpha unread) after the whole output transform into
 /// `texels`, laid out as `order` says: per channel exactly what [`HdrImage::to_rgb8`] computes.
 pub fn encode_texels(linear: &[u8], settings: &ImageSettings, order: TexelOrder, texels: &mut [u8]) {
+    let channels = linear.chunks_exact(16).flat_map(|pixel| (0..3).map(|c| f32_at(&pixel[4 * c..])));
+    if let Some(scale) = TermScale::of(settings.view, channels) {
+        return encode_each(linear, order, texels, |c| scale.level(c));
+    }
     let exposure = settings.exposure;
     // One loop per curve and encoding, so that each is compiled with its transform inlined (the preview
     // encodes every frame: a match per channel took 2.5 ms of a 13 ms frame).
@@ -80,15 +126,19 @@ fn encode_each(linear: &[u8], order: TexelOrder, texels: &mut [u8], channel: imp
         TexelOrder::Rgb | TexelOrder::Rgba => (0, 2),
         TexelOrder::Bgra => (2, 0),
     };
-    let value = |bytes: &[u8]| f32::from_ne_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
     for (pixel, texel) in linear.chunks_exact(16).zip(texels.chunks_exact_mut(order.bytes())) {
-        texel[red] = channel(value(&pixel[0..4]));
-        texel[1] = channel(value(&pixel[4..8]));
-        texel[blue] = channel(value(&pixel[8..12]));
+        texel[red] = channel(f32_at(&pixel[0..4]));
+        texel[1] = channel(f32_at(&pixel[4..8]));
+        texel[blue] = channel(f32_at(&pixel[8..12]));
         if let Some(alpha) = texel.get_mut(3) {
             *alpha = 255;
         }
     }
+}
+
+/// The native-endian f32 at the start of `bytes`.
+fn f32_at(bytes: &[u8]) -> f32 {
+    f32::from_ne_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
 }
 
 /// The tone curve, per channel, applied after exposure.
@@ -156,7 +206,7 @@ pub fn write_image(hdr: &HdrImage, settings: &ImageSettings, path: &Path) -> Res
     match OutputFormat::for_path(path)? {
         OutputFormat::Png => write_png(&hdr.to_rgb8(settings), path),
         OutputFormat::Exr => {
-            write_encoded(path, |bytes| hdr.exposed(settings.exposure).write_to(bytes, image::ImageFormat::OpenExr))
+            write_encoded(path, |bytes| hdr.exposed(settings).write_to(bytes, image::ImageFormat::OpenExr))
         }
     }
 }
@@ -396,10 +446,24 @@ mod tests {
             encoding: Encoding::Linear,
             shadow_map_size: 16,
             shadow_filter: crate::scene::ShadowFilter::Hard,
+            view: View::Radiance,
         };
         let hdr = HdrImage { width: 1, height: 1, pixels: vec![Vec3::new(0.5, 1.0, 0.0)] };
         // 0.5 * 2 = 1 -> 0.5 -> 127; 1 * 2 = 2 -> 2/3 -> 170
         assert_eq!(hdr.to_rgb8(&settings).into_raw(), vec![127, 170, 0]);
+    }
+
+    #[test]
+    fn term_views_are_scaled_linearly_by_hand() {
+        let normal = TermScale::of(View::Normal, [0.3f32].into_iter()).unwrap();
+        assert_eq!([-1.0, 0.0, 1.0].map(|n| normal.level(n)), [0, 127, 255]);
+        // D up to 12 (and a NaN, ignored): 255 x 6 / 12 = 127.5 -> 127; F within [0, 1] reads directly.
+        let d = TermScale::of(View::D, [0.5, 12.0, f32::NAN].into_iter()).unwrap();
+        assert_eq!((d.high, d.level(6.0), d.level(12.0)), (12.0, 127, 255));
+        let f = TermScale::of(View::F, [0.2f32, 0.9].into_iter()).unwrap();
+        assert_eq!((f.high, f.level(0.5)), (1.0, 127));
+        assert!(d.describe().starts_with("view d: PNG level = 255 x value / 12,"), "{}", d.describe());
+        assert_eq!(TermScale::of(View::Diffuse, [3.0f32].into_iter()), None, "a radiance: the output transform");
     }
 
     #[test]
@@ -414,8 +478,12 @@ mod tests {
             }
         }
         let image = HdrImage { width: 300, height: 1, pixels };
-        for tonemap in [Tonemap::Clamp, Tonemap::Reinhard, Tonemap::Aces] {
-            for encoding in [Encoding::Linear, Encoding::Srgb] {
+        let transforms = [Tonemap::Clamp, Tonemap::Reinhard, Tonemap::Aces]
+            .into_iter()
+            .flat_map(|tonemap| [Encoding::Linear, Encoding::Srgb].map(|encoding| (tonemap, encoding, View::Radiance)))
+            .chain([View::Normal, View::D, View::Specular].map(|view| (Tonemap::Clamp, Encoding::Linear, view)));
+        for (tonemap, encoding, view) in transforms {
+            {
                 let settings = ImageSettings {
                     width: 300,
                     height: 1,
@@ -426,6 +494,7 @@ mod tests {
                     encoding,
                     shadow_map_size: 1,
                     shadow_filter: crate::scene::ShadowFilter::Hard,
+                    view,
                 };
                 let rgb = image.to_rgb8(&settings);
                 for (order, [r, b]) in [(TexelOrder::Rgba, [0, 2]), (TexelOrder::Bgra, [2, 0])] {

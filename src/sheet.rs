@@ -2,11 +2,14 @@
 
 use image::{Rgb, RgbImage};
 
-/// Text height in pixels: the 8x8 font drawn at twice its size.
-const TEXT_SCALE: u32 = 2;
-const GLYPH: u32 = 8 * TEXT_SCALE;
+use crate::text::{draw_text, text_width};
+
+/// The labels' and title's text size in pixels (DejaVu Sans, anti-aliased).
+const TEXT: f32 = 18.0;
+/// The height of a line of that text (ascent to descent).
+const GLYPH: u32 = 22;
 /// The strip under each tile (and above the sheet for a title).
-const STRIP: u32 = GLYPH + 12;
+const STRIP: u32 = GLYPH + 10;
 const GAP: u32 = 8;
 const PAPER: Rgb<u8> = Rgb([24, 24, 24]);
 const INK: Rgb<u8> = Rgb([240, 240, 240]);
@@ -63,7 +66,7 @@ impl SheetLayout {
     pub fn title_band(&self) -> RgbImage {
         let mut band = RgbImage::from_pixel(self.size().0, self.title_height(), PAPER);
         if let Some(title) = &self.title {
-            draw_text(&mut band, GAP, (STRIP - GLYPH) / 2 + GAP / 2, title);
+            draw_text(&mut band, (GAP, (STRIP - GLYPH) / 2 + GAP / 2), title, TEXT, INK);
         }
         band
     }
@@ -74,40 +77,10 @@ impl SheetLayout {
         for (column, (label, tile)) in tiles.iter().take(self.columns).enumerate() {
             let x = GAP + column as u32 * (self.tile_w + GAP);
             image::imageops::replace(&mut band, tile, i64::from(x), 0);
-            let text_x = x + self.tile_w.saturating_sub(text_width(label)) / 2;
-            draw_text(&mut band, text_x, self.tile_h + (STRIP - GLYPH) / 2, label);
+            let text_x = x + self.tile_w.saturating_sub(text_width(label, TEXT)) / 2;
+            draw_text(&mut band, (text_x, self.tile_h + (STRIP - GLYPH) / 2), label, TEXT, INK);
         }
         band
-    }
-}
-
-/// The width of `text` in pixels.
-pub fn text_width(text: &str) -> u32 {
-    text.chars().count() as u32 * GLYPH
-}
-
-/// Draws ASCII `text` (others become '?') with its top-left corner at (x, y), clipped to the image.
-pub fn draw_text(image: &mut RgbImage, x: u32, y: u32, text: &str) {
-    for (i, c) in text.chars().enumerate() {
-        let code = if c.is_ascii() { c as usize } else { '?' as usize };
-        let glyph = font8x8::legacy::BASIC_LEGACY[code];
-        let left = x + i as u32 * GLYPH;
-        for (row, bits) in glyph.iter().enumerate() {
-            for column in 0..8u32 {
-                // font8x8 keeps the leftmost pixel in the lowest bit.
-                if bits & (1 << column) == 0 {
-                    continue;
-                }
-                for dy in 0..TEXT_SCALE {
-                    for dx in 0..TEXT_SCALE {
-                        let (px, py) = (left + column * TEXT_SCALE + dx, y + row as u32 * TEXT_SCALE + dy);
-                        if px < image.width() && py < image.height() {
-                            image.put_pixel(px, py, INK);
-                        }
-                    }
-                }
-            }
-        }
     }
 }
 
@@ -123,7 +96,7 @@ mod tests {
         assert_eq!(sheet.dimensions(), (GAP + 2 * (40 + GAP), STRIP + GAP + 30 + STRIP + GAP));
         assert_eq!(sheet.get_pixel(GAP, STRIP + GAP).0, [255, 0, 0]);
         assert_eq!(sheet.get_pixel(2 * GAP + 40, STRIP + GAP).0, [0, 0, 255]);
-        // The labels and the title put ink in their strips.
+        // The labels and the title put ink in their strips (anti-aliased: some pixels wholly inked).
         let ink_in = |x0: u32, y0: u32, w: u32, h: u32| {
             (y0..y0 + h).any(|y| (x0..x0 + w).any(|x| sheet.get_pixel(x, y).0 == INK.0))
         };
@@ -134,10 +107,14 @@ mod tests {
 
     #[test]
     fn different_labels_draw_differently() {
-        let mut a = RgbImage::from_pixel(64, 16, PAPER);
+        let mut a = RgbImage::from_pixel(64, GLYPH, PAPER);
         let mut b = a.clone();
-        draw_text(&mut a, 0, 0, "0.2");
-        draw_text(&mut b, 0, 0, "0.4");
+        draw_text(&mut a, (0, 0), "0.2", TEXT, INK);
+        draw_text(&mut b, (0, 0), "0.4", TEXT, INK);
         assert_ne!(a, b);
+        // Anti-aliased: edges hold levels between paper and ink.
+        assert!(a.pixels().any(|p| p.0[0] > PAPER.0[0] + 20 && p.0[0] < INK.0[0] - 20));
+        // Greek and degree signs are in the font: no '?' box.
+        assert!(text_width("θi = 30°", TEXT) > text_width("ab", TEXT));
     }
 }

@@ -31,6 +31,11 @@ float v_smith_schlick(float NoV, float NoL, float k) {
     return 0.25 / ((NoV * (1.0 - k) + k) * (NoL * (1.0 - k) + k));
 }
 
+// The shadowing-masking term itself: G = G1(n.wo) G1(n.wi) = 4 (n.wo)(n.wi) V (the G view shows it).
+float g_smith_schlick(float NoV, float NoL, float k) {
+    return 4.0 * NoV * NoL * v_smith_schlick(NoV, NoL, k);
+}
+
 // Schlick 1994: F = F0 + (1 - F0)(1 - h.wo)^5.
 vec3 f_schlick(float VoH, vec3 f0) {
     float m = clamp(1.0 - VoH, 0.0, 1.0);

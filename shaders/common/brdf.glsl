@@ -51,4 +51,39 @@ vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {
     }
 }
 
+// The diffuse and the specular lobe of brdf_eval apart (they add up to it): Lambert and Oren-Nayar are all
+// diffuse; Phong and Blinn-Phong are Lambert plus their lobe; Cook-Torrance weighs its lobes by metalness.
+// Mirror Brdf::eval_diffuse and Brdf::eval_specular in src/brdf/mod.rs; the diffuse and specular views show
+// what each reflects.
+vec3 brdf_eval_diffuse(Material m, vec3 n, vec3 wi, vec3 wo) {
+    if (dot(n, wi) <= 0.0 || dot(n, wo) <= 0.0) {
+        return vec3(0.0);
+    }
+    switch (m.brdf) {
+        case BRDF_OREN_NAYAR:
+            return oren_nayar(n, wi, wo, m.kd.rgb, m.sigma);
+        case BRDF_COOK_TORRANCE:
+            return (1.0 - m.metalness) * (m.diffuse == DIFFUSE_LAMBERT ? lambert(m.kd.rgb)
+                                                                        : oren_nayar(n, wi, wo, m.kd.rgb, m.roughness));
+        default:
+            return lambert(m.kd.rgb);
+    }
+}
+
+vec3 brdf_eval_specular(Material m, vec3 n, vec3 wi, vec3 wo) {
+    if (dot(n, wi) <= 0.0 || dot(n, wo) <= 0.0) {
+        return vec3(0.0);
+    }
+    switch (m.brdf) {
+        case BRDF_PHONG:
+            return phong_specular(n, wi, wo, m.ks.rgb, m.shininess);
+        case BRDF_BLINN_PHONG:
+            return blinn_phong_specular(n, wi, wo, m.ks.rgb, m.shininess);
+        case BRDF_COOK_TORRANCE:
+            return m.metalness * cook_torrance_specular(n, wi, wo, m.f0.rgb, m.roughness);
+        default:
+            return vec3(0.0);
+    }
+}
+
 #endif

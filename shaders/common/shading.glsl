@@ -6,6 +6,7 @@
 
 #include "common/scene.glsl"
 #include "common/brdf.glsl"
+#include "common/views.glsl"
 
 const float MIN_NOV = 1e-4;
 
@@ -86,8 +87,9 @@ float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
     return lit / 9.0;
 }
 
-// The radiance that leaves the object's point p, of normal n, towards the camera.
-vec3 outgoing_radiance(ObjectData object, vec3 p, vec3 n) {
+// What the image shows at the object's point p, of normal n: the radiance that leaves it towards the camera,
+// or the term VIEW (views.glsl).
+vec3 pixel_value(ObjectData object, vec3 p, vec3 n) {
     vec3 wo = normalize(frame.camera_position.xyz - p);
     if (object.flags.x != 0u && dot(n, wo) < 0.0) {
         n = -n;
@@ -95,6 +97,9 @@ vec3 outgoing_radiance(ObjectData object, vec3 p, vec3 n) {
         // At a silhouette an interpolated normal can face away from a camera that still sees the
         // tessellated surface: bend it back over the horizon, since the BRDFs reflect nothing below it.
         n = normalize(n + (MIN_NOV - dot(n, wo)) * wo);
+    }
+    if (VIEW == VIEW_NORMAL) {
+        return n;
     }
     vec3 radiance = vec3(0.0);
     for (uint i = 0u; i < LIGHT_COUNT; ++i) {
@@ -105,8 +110,8 @@ vec3 outgoing_radiance(ObjectData object, vec3 p, vec3 n) {
         if (NoL <= 0.0) {
             continue;  // the light is behind the surface
         }
-        float visible = light_visibility(lights[i], p, NoL, sqrt(d2));
-        radiance += brdf_eval(object.material, n, wi, wo) * (lights[i].radiance.rgb / d2) * (NoL * visible);
+        float visible = view_is_radiance() ? light_visibility(lights[i], p, NoL, sqrt(d2)) : 1.0;
+        radiance += light_view(object.material, n, wi, wo, lights[i].radiance.rgb / d2, NoL, visible);
     }
     return radiance;
 }

@@ -32,6 +32,11 @@ pub fn v_smith_schlick(n_o_v: f32, n_o_l: f32, k: f32) -> f32 {
     0.25 / ((n_o_v * (1.0 - k) + k) * (n_o_l * (1.0 - k) + k))
 }
 
+/// The shadowing-masking term itself: G = G1(n.wo) G1(n.wi) = 4 (n.wo)(n.wi) V (the G view shows it).
+pub fn g_smith_schlick(n_o_v: f32, n_o_l: f32, k: f32) -> f32 {
+    4.0 * n_o_v * n_o_l * v_smith_schlick(n_o_v, n_o_l, k)
+}
+
 /// F = F0 + (1 - F0)(1 - h.wo)^5 (Schlick 1994).
 pub fn f_schlick(v_o_h: f32, f0: Vec3) -> Vec3 {
     let m = (1.0 - v_o_h).clamp(0.0, 1.0);

@@ -15,7 +15,9 @@ mod tests;
 use glam::Vec3;
 
 pub use blinn_phong::{blinn_phong, blinn_phong_specular, half_vector};
-pub use cook_torrance::{cook_torrance, cook_torrance_specular, d_ggx, f_schlick, smith_schlick_k, v_smith_schlick};
+pub use cook_torrance::{
+    cook_torrance, cook_torrance_specular, d_ggx, f_schlick, g_smith_schlick, smith_schlick_k, v_smith_schlick,
+};
 pub use lambert::lambert;
 pub use oren_nayar::{cos_phi_difference, oren_nayar, oren_nayar_a, oren_nayar_b};
 pub use phong::{cosine_lobe, mirror, phong, phong_specular, pow_lobe, MIN_COS_THETA_I};
@@ -75,6 +77,41 @@ impl Brdf {
             Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse } => {
                 cook_torrance(n, wi, wo, kd, f0, roughness, metalness, diffuse)
             }
+        }
+    }
+
+    /// The diffuse lobe of [`Brdf::eval`] (with [`Brdf::eval_specular`] they add up to it): Lambert and
+    /// Oren-Nayar are all diffuse, Phong and Blinn-Phong are Lambert plus their lobe, Cook-Torrance weighs
+    /// its lobes by metalness. Mirrors `brdf_eval_diffuse` in `shaders/common/brdf.glsl`.
+    pub fn eval_diffuse(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+        if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        match *self {
+            Brdf::OrenNayar { kd, sigma } => oren_nayar(n, wi, wo, kd, sigma),
+            Brdf::CookTorrance { kd, roughness, metalness, diffuse, .. } => {
+                (1.0 - metalness)
+                    * match diffuse {
+                        DiffuseModel::Lambert => lambert(kd),
+                        DiffuseModel::OrenNayar => oren_nayar(n, wi, wo, kd, roughness),
+                    }
+            }
+            Brdf::Lambert { kd } | Brdf::Phong { kd, .. } | Brdf::BlinnPhong { kd, .. } => lambert(kd),
+        }
+    }
+
+    /// The specular lobe of [`Brdf::eval`]; mirrors `brdf_eval_specular` in `shaders/common/brdf.glsl`.
+    pub fn eval_specular(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+        if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        match *self {
+            Brdf::Phong { ks, shininess, .. } => phong_specular(n, wi, wo, ks, shininess),
+            Brdf::BlinnPhong { ks, shininess, .. } => blinn_phong_specular(n, wi, wo, ks, shininess),
+            Brdf::CookTorrance { f0, roughness, metalness, .. } => {
+                metalness * cook_torrance_specular(n, wi, wo, f0, roughness)
+            }
+            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } => Vec3::ZERO,
         }
     }
 }

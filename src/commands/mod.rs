@@ -18,7 +18,9 @@ use clap::Args;
 
 use vk_render::analysis::{select_materials, NamedBrdf};
 use vk_render::chart::ChartFile;
-use vk_render::{Override, Scene};
+use vk_render::output::TermScale;
+use vk_render::scene::View;
+use vk_render::{Override, Renderer, Scene};
 
 /// Options that override `[image]` and any other value of the scene(s).
 #[derive(Args)]
@@ -34,6 +36,10 @@ pub struct ImageArgs {
     /// MSAA samples per pixel (same as --set image.samples=N).
     #[arg(long)]
     samples: Option<i64>,
+
+    /// What the image shows: the radiance, or one term of the shading (same as --set image.view=VIEW).
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(View::ALL.map(View::name)))]
+    view: Option<String>,
 
     #[command(flatten)]
     set: SetArgs,
@@ -55,6 +61,9 @@ impl ImageArgs {
             if let Some(value) = value {
                 overrides.push(Override::new(format!("image.{key}"), value));
             }
+        }
+        if let Some(view) = &self.view {
+            overrides.push(Override::new("image.view", view.as_str()));
         }
         overrides.extend(self.set.overrides.iter().cloned());
         overrides
@@ -118,4 +127,18 @@ impl StudyArgs {
             None => anyhow::bail!("{}: unsupported output type (use .png, .svg or .csv)", self.output.display()),
         }
     }
+}
+
+/// A PNG's pixels of the scene; for a term view, its scale is printed on standard output (the scale depends
+/// on the image: see `TermScale`).
+pub fn render_png_pixels(renderer: &mut Renderer, scene: &Scene) -> vk_render::Result<image::RgbImage> {
+    if scene.image.view.is_radiance() {
+        return renderer.render_rgb8(scene);
+    }
+    let image = renderer.render(scene)?;
+    let channels = image.pixels.iter().flat_map(|c| c.to_array());
+    if let Some(scale) = TermScale::of(scene.image.view, channels) {
+        println!("{}", scale.describe());
+    }
+    Ok(image.to_rgb8(&scene.image))
 }

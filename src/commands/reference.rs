@@ -37,6 +37,13 @@ pub fn run(args: ReferenceArgs) -> anyhow::Result<()> {
             anyhow::bail!("--ids {}: the same file as -o: give the object-id map a file of its own", ids.display());
         }
     }
+    if scene.image.view != vk_render::scene::View::Radiance {
+        anyhow::bail!(
+            "{}: image.view = \"{}\": the CPU reference renders the radiance only",
+            args.scene.display(),
+            scene.image.view.name()
+        );
+    }
     let traced = vk_render::reference::render(&scene)?;
     write_image(&traced.image, &scene.image, &args.output)?;
     if let Some(ids) = &args.ids {

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{warn, ImageArgs};
+use super::{render_png_pixels, warn, ImageArgs};
 use vk_render::output::{write_image, write_png, OutputFormat};
 use vk_render::{Renderer, RendererOptions, Scene};
 
@@ -30,7 +30,7 @@ pub fn run(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
     warn(&scene);
     let mut renderer = Renderer::new(options)?;
     match OutputFormat::for_path(&args.output)? {
-        OutputFormat::Png => write_png(&renderer.render_rgb8(&scene)?, &args.output)?,
+        OutputFormat::Png => write_png(&render_png_pixels(&mut renderer, &scene)?, &args.output)?,
         OutputFormat::Exr => write_image(&renderer.render(&scene)?, &scene.image, &args.output)?,
     }
     log::info!("wrote {}", args.output.display());

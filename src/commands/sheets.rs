@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use super::render_png_pixels;
 use vk_render::output::{write_png, write_png_rows};
 use vk_render::sheet::SheetLayout;
 use vk_render::{Renderer, Scene};
@@ -30,7 +31,7 @@ pub fn render_sheet(
         band(&layout.title_band())?;
         let mut row = Vec::with_capacity(layout.columns);
         for (index, tile) in tiles.iter().enumerate() {
-            let image = renderer.render_rgb8(&tile.scene)?;
+            let image = render_png_pixels(renderer, &tile.scene)?;
             write_png(&image, &tile.path)?;
             written.push(&tile.path);
             row.push((tile.label.clone(), image));

@@ -34,9 +34,9 @@ pub enum PipelineKey {
     Background { samples: vk::SampleCountFlags },
     /// Objects of one kind (meshes, or exact spheres) and the values of the fragment shader's specialization
     /// constants, in the order of their `constant_id`s: the BRDF (brdf.glsl's `BRDF_SPECIALIZED`), the shadow
-    /// filter and the number of lights (shading.glsl's `SHADOW_FILTER` and `LIGHT_COUNT`), and
-    /// Cook-Torrance's diffuse lobe (brdf.glsl's `DIFFUSE_SPECIALIZED`).
-    Objects { samples: vk::SampleCountFlags, exact_sphere: bool, constants: [u32; 4] },
+    /// filter and the number of lights (shading.glsl's `SHADOW_FILTER` and `LIGHT_COUNT`), Cook-Torrance's
+    /// diffuse lobe (brdf.glsl's `DIFFUSE_SPECIALIZED`) and what the image shows (shading.glsl's `VIEW`).
+    Objects { samples: vk::SampleCountFlags, exact_sphere: bool, constants: [u32; 5] },
 }
 
 impl PipelineKey {
@@ -50,7 +50,13 @@ impl PipelineKey {
         Self::Objects {
             samples: vk::SampleCountFlags::from_raw(scene.image.samples),
             exact_sphere: placed.exact_sphere,
-            constants: [material.brdf, shadow_filter, scene.lights.len() as u32, material.diffuse],
+            constants: [
+                material.brdf,
+                shadow_filter,
+                scene.lights.len() as u32,
+                material.diffuse,
+                scene.image.view.id(),
+            ],
         }
     }
 

@@ -1,10 +1,10 @@
 //! The forward pass's GPU data, byte for byte as `shaders/common/scene.glsl` declares it.
 
 use glam::camera::rh::proj::vulkan;
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec4};
 
 use crate::brdf::{Brdf, DiffuseModel};
-use crate::scene::{Camera, ImageSettings, Object, PointLight, Shape};
+use crate::scene::{Camera, ImageSettings, Object, PointLight, Shape, View};
 
 /// `Frame` (std140).
 #[repr(C)]
@@ -118,7 +118,8 @@ impl GpuFrame {
             pixel_rays: [rays.per_x.extend(0.0), rays.per_y.extend(0.0), rays.corner.extend(0.0), glam::Vec4::ZERO]
                 .map(|c| c.to_array()),
             camera_position: camera.position.extend(1.0).into(),
-            background: image.background.extend(1.0).into(),
+            // A term view shows 0 where no object is seen: the background is a radiance.
+            background: if image.view == View::Radiance { image.background.extend(1.0) } else { Vec4::W }.into(),
             shadow_texel_angle: 2.0 / image.shadow_map_size as f32,
             samples: image.samples,
             pad: [0; 2],

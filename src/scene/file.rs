@@ -38,6 +38,7 @@ pub struct ImageSection {
     pub encoding: String,
     pub shadow_map_size: i64,
     pub shadow_filter: String,
+    pub view: String,
 }
 
 impl Default for ImageSection {
@@ -52,6 +53,7 @@ impl Default for ImageSection {
             encoding: "linear".into(),
             shadow_map_size: super::DEFAULT_SHADOW_MAP_SIZE.into(),
             shadow_filter: "hard".into(),
+            view: "radiance".into(),
         }
     }
 }

@@ -60,6 +60,77 @@ pub struct ImageSettings {
     pub shadow_map_size: u32,
     /// Hard shadows (the course) or percentage-closer filtered ones.
     pub shadow_filter: ShadowFilter,
+    /// What the image shows: the radiance, or one term of the shading.
+    pub view: View,
+}
+
+/// What an image shows at each pixel: the radiance (the render), or one term of the shading, so that a term
+/// that differs from a student's can be seen. Each light's term is summed over the lights.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum View {
+    /// The outgoing radiance: the render.
+    Radiance,
+    /// The shading normal (facing the camera), each component in [-1, 1].
+    Normal,
+    /// max(0, n . wi), summed over the lights.
+    NDotL,
+    /// f_r(wi, wo) alone, summed over the lights.
+    Brdf,
+    /// Cook-Torrance's microfacet distribution D(h) (GGX), summed over the lights.
+    D,
+    /// Cook-Torrance's shadowing-masking G (Smith-Schlick), summed over the lights.
+    G,
+    /// Cook-Torrance's Fresnel F (Schlick), summed over the lights.
+    F,
+    /// The radiance the diffuse lobe reflects.
+    Diffuse,
+    /// The radiance the specular lobe reflects.
+    Specular,
+}
+
+impl View {
+    /// Every view, in the order of the shaders' ids (shading.glsl's `VIEW_*`).
+    pub const ALL: [View; 9] = [
+        View::Radiance,
+        View::Normal,
+        View::NDotL,
+        View::Brdf,
+        View::D,
+        View::G,
+        View::F,
+        View::Diffuse,
+        View::Specular,
+    ];
+
+    /// The name of the view in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Radiance => "radiance",
+            View::Normal => "normal",
+            View::NDotL => "n-dot-l",
+            View::Brdf => "brdf",
+            View::D => "d",
+            View::G => "g",
+            View::F => "f",
+            View::Diffuse => "diffuse",
+            View::Specular => "specular",
+        }
+    }
+
+    /// The view's id in the shaders.
+    pub fn id(self) -> u32 {
+        View::ALL.iter().position(|&v| v == self).unwrap_or(0) as u32
+    }
+
+    /// A radiance (the render or a lobe's share of it): it goes through the scene's output transform.
+    pub fn is_radiance(self) -> bool {
+        matches!(self, View::Radiance | View::Diffuse | View::Specular)
+    }
+
+    /// One of Cook-Torrance's D, G, F: other models have no such term.
+    pub fn is_microfacet_term(self) -> bool {
+        matches!(self, View::D | View::G | View::F)
+    }
 }
 
 /// How the shadow maps are read.
@@ -185,6 +256,30 @@ impl Scene {
         if self.lights.is_empty() && !self.objects.is_empty() {
             warnings.push(format!("{file}: the scene has no [[light]]: every object is black"));
         }
+        let view = self.image.view;
+        if view.is_microfacet_term() {
+            let others: Vec<String> = self
+                .objects
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| !matches!(o.brdf, Brdf::CookTorrance { .. }))
+                .map(|(i, o)| format!("object.{i} ({})", o.brdf.name()))
+                .collect();
+            if !others.is_empty() {
+                warnings.push(format!(
+                    "{file}: image.view = \"{}\": {} not Cook-Torrance: black in this view",
+                    view.name(),
+                    others.join(", ")
+                ));
+            }
+        }
+        if !view.is_radiance() && view != View::Normal && self.lights.len() > 1 {
+            warnings.push(format!(
+                "{file}: image.view = \"{}\": each pixel sums the term over the scene's {} lights",
+                view.name(),
+                self.lights.len()
+            ));
+        }
         warnings
     }
 
@@ -276,6 +371,23 @@ mod tests {
                            [[object]]\nshape = \"sphere\"\ncenter = [0, 0, 3]\nradius = 1\nmaterial = \"m\"\n";
 
     #[test]
+    fn a_view_is_named_and_a_microfacet_term_needs_cook_torrance() {
+        let unknown = error(MINIMAL, &["image.view=\"depth\""]);
+        assert!(unknown.contains("image.view = \"depth\": unknown view (expected one of \"radiance\""), "{unknown}");
+        let no_term = error(MINIMAL, &["image.view=\"d\""]);
+        assert!(no_term.contains("no object is Cook-Torrance, the only model with a microfacet D term"), "{no_term}");
+        let gold = "[material.gold]\nbrdf = \"cook-torrance\"\nkd = 1\nf0 = 1\nroughness = 0.3\n\
+                    [[object]]\nshape = \"sphere\"\ncenter = [0, 0, 3]\nradius = 1\nmaterial = \"gold\"\n";
+        let scene = parse(&format!("{MINIMAL}{gold}[[light]]\nposition = [0, 0, 0]\n"), &["image.view=\"g\""]).unwrap();
+        assert_eq!(scene.image.view, View::G);
+        let warnings = scene.warnings();
+        assert!(
+            warnings.iter().any(|w| w.contains("object.0 (lambert) not Cook-Torrance: black in this view")),
+            "{warnings:?}"
+        );
+    }
+
+    #[test]
     fn defaults_follow_the_format() {
         let scene = parse("", &[]).unwrap();
         assert_eq!(
@@ -290,6 +402,7 @@ mod tests {
                 encoding: Encoding::Linear,
                 shadow_map_size: 1024,
                 shadow_filter: ShadowFilter::Hard,
+                view: View::Radiance,
             }
         );
         assert_eq!(scene.camera, Camera { position: Vec3::ZERO, look_at: Vec3::Z, up: Vec3::Y, fov_y: 60.0 });

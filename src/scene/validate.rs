@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::file::{CameraSection, ImageSection, LightSection, MaterialSection, ObjectSection, Rgb, SceneFile};
 use super::{
-    Camera, Encoding, ImageSettings, Object, PointLight, Scene, ShadowFilter, Shape, Tonemap, BUNNY_PATH,
+    Camera, Encoding, ImageSettings, Object, PointLight, Scene, ShadowFilter, Shape, Tonemap, View, BUNNY_PATH,
     MAX_IMAGE_SIDE, MAX_LIGHTS,
 };
 use crate::brdf::{Brdf, DiffuseModel};
@@ -38,6 +38,13 @@ pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
         .collect::<Check<BTreeMap<_, _>>>()?;
     let objects =
         raw.objects.iter().enumerate().map(|(i, o)| object(i, o, &materials, path)).collect::<Check<Vec<_>>>()?;
+    if image.view.is_microfacet_term() && !objects.iter().any(|o| matches!(o.brdf, Brdf::CookTorrance { .. })) {
+        return Err(format!(
+            "image.view = \"{}\": no object is Cook-Torrance, the only model with a microfacet {} term",
+            image.view.name(),
+            image.view.name().to_uppercase()
+        ));
+    }
     Ok(Scene { source: path.to_path_buf(), image, camera, lights, objects, materials })
 }
 
@@ -81,6 +88,10 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
             ))
         }
     };
+    let view = View::ALL.iter().copied().find(|view| view.name() == s.view).ok_or_else(|| {
+        let names: Vec<String> = View::ALL.iter().map(|view| format!("\"{}\"", view.name())).collect();
+        format!("image.view = {}: unknown view (expected one of {})", quoted(&s.view), names.join(", "))
+    })?;
     let shadow_map_size = u32::try_from(s.shadow_map_size).ok().filter(|v| *v >= 16).ok_or_else(|| {
         format!("image.shadow_map_size = {}: must be a whole number of texels, at least 16", s.shadow_map_size)
     })?;
@@ -98,6 +109,7 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
         encoding,
         shadow_map_size,
         shadow_filter,
+        view,
     })
 }
 
