@@ -18,6 +18,7 @@ pub mod output;
 pub mod preview;
 pub mod reference;
 pub mod render;
+pub mod report;
 pub mod scene;
 pub mod sheet;
 pub mod text;

@@ -50,6 +50,9 @@ enum Command {
     /// The white furnace as a table: each material's largest directional albedo, and its model's made white
     /// over a grid of its main parameter, flagged where energy is created or lost.
     Furnace(commands::furnace::FurnaceArgs),
+    /// Render two scenes and compare them: side by side with the map of their differences and its colour
+    /// bar (PNG), mean / p99 / max differences printed.
+    Compare(commands::compare::CompareArgs),
     /// List the Vulkan devices and which one is used by default.
     Devices,
 }
@@ -128,6 +131,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Figures(args) => commands::figures::run(args, options),
         Command::Plot(args) => commands::plot::run(args, options),
         Command::Furnace(args) => commands::furnace::run(args, options),
+        Command::Compare(args) => commands::compare::run(args, options),
         #[cfg(feature = "preview")]
         Command::Preview(args) => commands::preview::run(args, options),
     }

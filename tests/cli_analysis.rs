@@ -175,3 +175,47 @@ fn plot_slice_writes_a_cell_a_degree_in_csv_and_a_picture() {
     succeeds(&["plot", "slice", &fig2(), "--log", "-o", png.to_str().unwrap()]);
     assert_eq!(image::open(&png).unwrap().to_rgb8().dimensions(), (2 * 460 + 150, 520));
 }
+
+#[test]
+fn compare_prints_the_differences_and_writes_the_report() {
+    let folder = temp_dir();
+    let scene = |name: &str| root().join("assets/scenes").join(name).to_str().unwrap().to_string();
+    let report = folder.path().join("cmp.png");
+    let small = ["--width", "120", "--height", "80"];
+    // Oren-Nayar with sigma 0 is Lambert exactly: Figure 2's first image is Figure 1 byte for byte.
+    let mut args = vec!["compare", "--set", "material.matte.sigma=0"];
+    let (fig1, fig2) = (scene("fig1-lambert.toml"), scene("fig2-oren-nayar-sigma-0.6.toml"));
+    args.extend([fig2.as_str(), fig1.as_str(), "-o", report.to_str().unwrap()]);
+    args.extend(small);
+    let output = vk_render(&args);
+    // fig1 has no material named matte: --set applies to both scenes, so this is refused, naming fig1.
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("fig1-lambert.toml") && stderr.contains("material.matte"), "{stderr}");
+    let zero = scene("fig2-oren-nayar-sigma-0.0.toml");
+    let mut args = vec!["compare", zero.as_str(), fig1.as_str(), "-o", report.to_str().unwrap()];
+    args.extend(small);
+    let stdout = succeeds(&args);
+    assert!(
+        stdout.starts_with("mean 0.000 levels, p99 0, max 0") && stdout.contains(" 0.00% of the pixels differ"),
+        "{stdout}"
+    );
+    let mut args = vec!["compare", fig2.as_str(), fig1.as_str(), "-o", report.to_str().unwrap()];
+    args.extend(small);
+    let stdout = succeeds(&args);
+    assert!(!stdout.starts_with("mean 0.000") && !stdout.contains(" 0.00% of the pixels differ"), "{stdout}");
+    let picture = image::open(&report).unwrap().to_rgb8();
+    assert!(picture.width() > 3 * 120 && picture.height() > 80, "{:?}", picture.dimensions());
+    // Two sizes are refused, and nothing is written.
+    std::fs::remove_file(&report).unwrap();
+    let output = vk_render(&["compare", &fig1, &fig2, "--set", "image.width=64", "-o", report.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(0), "--set applies to both: one size");
+    std::fs::remove_file(&report).unwrap();
+    let narrow = folder.path().join("narrow.toml");
+    std::fs::write(&narrow, std::fs::read_to_string(&fig1).unwrap().replace("width = 600", "width = 64")).unwrap();
+    let output = vk_render(&["compare", narrow.to_str().unwrap(), &fig2, "-o", report.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("is 64 x 400") && stderr.contains("is 600 x 400"), "{stderr}");
+    assert!(!report.exists());
+}
