@@ -291,7 +291,11 @@ impl LobeChart {
                 let a = theta.to_radians();
                 (v.max(0.0) * a.sin(), v.max(0.0) * a.cos())
             });
-            chart.draw_series(LineSeries::new(points, series.colour.stroke_width(2)))?;
+            if series.dashed {
+                chart.draw_series(DashedLineSeries::new(points, 8, 5, series.colour.stroke_width(2)))?;
+            } else {
+                chart.draw_series(LineSeries::new(points, series.colour.stroke_width(2)))?;
+            }
         }
         Ok(())
     }

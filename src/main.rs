@@ -50,6 +50,9 @@ enum Command {
     /// The white furnace as a table: each material's largest directional albedo, and its model's made white
     /// over a grid of its main parameter, flagged where energy is created or lost.
     Furnace(commands::furnace::FurnaceArgs),
+    /// Fit a model to a material: the parameters that best match its lobe in least squares over the
+    /// hemisphere for a set of incidence angles, printed as `name = value` with the residual.
+    Fit(commands::fit::FitArgs),
     /// Render two scenes and compare them: side by side with the map of their differences and its colour
     /// bar (PNG), mean / p99 / max differences printed.
     Compare(commands::compare::CompareArgs),
@@ -132,6 +135,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Plot(args) => commands::plot::run(args, options),
         Command::Furnace(args) => commands::furnace::run(args, options),
         Command::Compare(args) => commands::compare::run(args, options),
+        Command::Fit(args) => commands::fit::run(args, options),
         #[cfg(feature = "preview")]
         Command::Preview(args) => commands::preview::run(args, options),
     }

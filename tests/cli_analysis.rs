@@ -219,3 +219,44 @@ fn compare_prints_the_differences_and_writes_the_report() {
     assert!(stderr.contains("is 64 x 400") && stderr.contains("is 600 x 400"), "{stderr}");
     assert!(!report.exists());
 }
+
+#[test]
+fn fit_prints_name_value_lines_and_draws_the_lobes() {
+    let folder = temp_dir();
+    let materials = root().join("assets/analysis/course-materials.toml");
+    let plot = folder.path().join("fit.svg");
+    let stdout = succeeds(&[
+        "fit",
+        materials.to_str().unwrap(),
+        "--material",
+        "blinn-phong",
+        "--to",
+        "blinn-phong",
+        "--theta-i",
+        "20,50",
+        "-o",
+        plot.to_str().unwrap(),
+    ]);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(lines[0].contains("over theta_i = 20, 50 degrees"), "{stdout}");
+    assert_eq!(&lines[1..3], ["kd = [0.35, 0.35, 0.35]", "ks = [0.15, 0.15, 0.15]"], "{stdout}");
+    let shininess: f32 = lines[3].strip_prefix("shininess = ").unwrap().parse().unwrap();
+    assert!((shininess - 16.0).abs() < 0.01, "{stdout}");
+    assert!(lines[4].starts_with("residual = 0.000000"), "{stdout}");
+    assert!(std::fs::read_to_string(&plot).unwrap().contains("blinn-phong (fit), θi 50°"));
+    for (args, needle) in [
+        (vec!["--material", "velvet", "--to", "phong"], "--material velvet: no such material"),
+        (vec!["--material", "gold", "--to", "ward"], "invalid value 'ward' for '--to <MODEL>'"),
+        (vec!["--material", "gold", "--to", "phong", "--theta-i", "95"], "--theta-i 95"),
+        (vec!["--material", "gold", "--to", "phong", "-o", "fit.csv"], "drawn as .png or .svg"),
+    ] {
+        let mut full = vec!["fit", materials.to_str().unwrap()];
+        full.extend(args);
+        let output = vk_render(&full);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            !output.status.success() && stderr.lines().count() == 1 && stderr.contains(needle),
+            "{full:?}: {stderr}"
+        );
+    }
+}

@@ -4,6 +4,7 @@
 //! what it computes.
 
 pub mod albedo;
+pub mod fit;
 pub mod furnace;
 pub mod lobe;
 pub mod slice;

@@ -4,6 +4,7 @@
 pub mod compare;
 pub mod devices;
 pub mod figures;
+pub mod fit;
 pub mod furnace;
 pub mod plot;
 #[cfg(feature = "preview")]

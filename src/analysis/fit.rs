@@ -1,0 +1,257 @@
+//! Fitting one model to another material's lobe: the parameters of a model that best match a material's f_r
+//! cos(theta_o) in least squares over the hemisphere of wo, for a set of incidence angles, every value from
+//! the probe pass (`brdf_eval`).
+//!
+//! Each model is linear in its colours once its one shape parameter is fixed (Phong's shininess, Oren-Nayar's
+//! sigma, GGX's roughness): f = sum over k of c_k b_k(wi, wo), the b_k being the model evaluated with unit
+//! colours. So the colours come from linear least squares per channel (variable projection) and the shape
+//! parameter from a scan of its range followed by a golden-section search around the best value of the scan.
+
+use std::f64::consts::PI;
+
+use glam::Vec3;
+
+use crate::brdf::{Brdf, DiffuseModel};
+use crate::error::Result;
+use crate::render::{ProbeCase, Renderer};
+
+/// The models a material can be fitted with, by their scene-file names.
+pub const FIT_MODELS: [&str; 5] = ["lambert", "oren-nayar", "phong", "blinn-phong", "cook-torrance"];
+
+/// The incidence angles fitted over unless told otherwise (degrees).
+pub const DEFAULT_THETA_I: [f64; 6] = [0.0, 15.0, 30.0, 45.0, 60.0, 75.0];
+
+/// The grid of wo: theta_o every degree, phi_o every 2 degrees over half the hemisphere (every model here
+/// is symmetric about the plane of incidence).
+const THETA_STEPS: usize = 90;
+const PHI_STEPS: usize = 90;
+
+/// A fitted model: its parameters, and the residual and the target's size on the same measure.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fit {
+    pub brdf: Brdf,
+    /// The root mean square of (fitted - target) f_r cos(theta_o) over the hemispheres (solid-angle weighted,
+    /// luminance), and the target's own root mean square.
+    pub residual: f64,
+    pub target_rms: f64,
+}
+
+/// One sample of the hemispheres: the directions and its weight (the solid angle it stands for).
+struct Sample {
+    wi: Vec3,
+    wo: Vec3,
+    weight: f64,
+}
+
+fn samples(theta_i: &[f64]) -> Vec<Sample> {
+    let (d_theta, d_phi) = (0.5 * PI / THETA_STEPS as f64, PI / PHI_STEPS as f64);
+    let mut samples = Vec::new();
+    for &incidence in theta_i {
+        let incidence = incidence.to_radians();
+        let wi = Vec3::new(incidence.sin() as f32, 0.0, incidence.cos() as f32);
+        for t in 0..THETA_STEPS {
+            let theta = (t as f64 + 0.5) * d_theta;
+            for p in 0..PHI_STEPS {
+                // phi_o from the mirror side (0) round to wi's side (pi).
+                let phi = (p as f64 + 0.5) * d_phi;
+                let wo =
+                    Vec3::new((-theta.sin() * phi.cos()) as f32, (theta.sin() * phi.sin()) as f32, theta.cos() as f32);
+                samples.push(Sample { wi, wo, weight: theta.sin() * d_theta * d_phi });
+            }
+        }
+    }
+    samples
+}
+
+/// The model `name` with shape parameter `shape`: the brdfs whose values are its basis functions (unit
+/// colours), and how coefficients (per channel, one per basis function) make the model's brdf.
+struct Family {
+    name: &'static str,
+    /// The shape parameter's name, range, and whether it is searched on a log scale; None: no shape.
+    shape: Option<(&'static str, f64, f64, bool)>,
+    /// The Cook-Torrance diffuse lobe, kept from the target when it is Cook-Torrance.
+    diffuse: DiffuseModel,
+}
+
+impl Family {
+    fn new(name: &str, target: &Brdf) -> Option<Self> {
+        let diffuse = match *target {
+            Brdf::CookTorrance { diffuse, .. } => diffuse,
+            _ => DiffuseModel::OrenNayar,
+        };
+        let (name, shape) = match name {
+            "lambert" => ("lambert", None),
+            "oren-nayar" => ("oren-nayar", Some(("sigma", 0.0, 1.5, false))),
+            "phong" => ("phong", Some(("shininess", 0.5, 20000.0, true))),
+            "blinn-phong" => ("blinn-phong", Some(("shininess", 0.5, 20000.0, true))),
+            "cook-torrance" => ("cook-torrance", Some(("roughness", 0.02, 1.0, true))),
+            _ => return None,
+        };
+        Some(Self { name, shape, diffuse })
+    }
+
+    fn basis(&self, shape: f32) -> Vec<Brdf> {
+        let (zero, one) = (Vec3::ZERO, Vec3::ONE);
+        match self.name {
+            "lambert" => vec![Brdf::Lambert { kd: one }],
+            "oren-nayar" => vec![Brdf::OrenNayar { kd: one, sigma: shape }],
+            "phong" => vec![Brdf::Lambert { kd: one }, Brdf::Phong { kd: zero, ks: one, shininess: shape }],
+            "blinn-phong" => vec![Brdf::Lambert { kd: one }, Brdf::BlinnPhong { kd: zero, ks: one, shininess: shape }],
+            _ => {
+                // (1 - m) kd f_diffuse + m (S0 + f0 (S1 - S0)): Schlick's F is affine in f0, so the specular
+                // lobe is S0 (f0 = 0) plus f0 times (S1 - S0) (S1: f0 = 1).
+                let lobe = |metalness: f32, f0: Vec3| Brdf::CookTorrance {
+                    kd: one,
+                    f0,
+                    roughness: shape,
+                    metalness,
+                    diffuse: self.diffuse,
+                };
+                vec![lobe(0.0, zero), lobe(1.0, zero), lobe(1.0, one)]
+            }
+        }
+    }
+
+    /// The model from its shape and per-channel coefficients of [`Family::basis`] (the last two of
+    /// Cook-Torrance's are S0 and S1, recombined as metalness and f0 here).
+    fn assemble(&self, shape: f32, c: &[Vec3]) -> Brdf {
+        let unit = |v: Vec3| v.clamp(Vec3::ZERO, Vec3::ONE);
+        match self.name {
+            "lambert" => Brdf::Lambert { kd: unit(c[0]) },
+            "oren-nayar" => Brdf::OrenNayar { kd: unit(c[0]), sigma: shape },
+            "phong" => Brdf::Phong { kd: unit(c[0]), ks: c[1].max(Vec3::ZERO), shininess: shape },
+            "blinn-phong" => Brdf::BlinnPhong { kd: unit(c[0]), ks: c[1].max(Vec3::ZERO), shininess: shape },
+            _ => {
+                // c1 S0 + c2 S1 = m S0 + m f0 (S1 - S0): m = c1 + c2 (one metalness for the three channels:
+                // their mean), f0 = c2 / m; kd = c0 / (1 - m).
+                let m = ((c[1] + c[2]).element_sum() / 3.0).clamp(0.0, 1.0);
+                let f0 = if m > 0.0 { unit(c[2] / m) } else { Vec3::ZERO };
+                let kd = if m < 1.0 { unit(c[0] / (1.0 - m)) } else { Vec3::ZERO };
+                Brdf::CookTorrance { kd, f0, roughness: shape, metalness: m, diffuse: self.diffuse }
+            }
+        }
+    }
+}
+
+/// Fits `model` (one of [`FIT_MODELS`]) to `target` over the incidence angles `theta_i` (degrees).
+/// `None` when the model is not one of them.
+///
+/// # Errors
+/// What the probe pass returns.
+pub fn fit(renderer: &mut Renderer, target: &Brdf, model: &str, theta_i: &[f64]) -> Result<Option<Fit>> {
+    let Some(family) = Family::new(model, target) else { return Ok(None) };
+    let samples = samples(theta_i);
+    let wanted = lobe_values(renderer, &[*target], &samples)?.remove(0);
+    let weights: Vec<f64> = samples.iter().map(|s| s.weight).collect();
+    let mut solve = |shape: f64| -> Result<(f64, Brdf)> {
+        let shape = shape as f32;
+        let basis = lobe_values(renderer, &family.basis(shape), &samples)?;
+        let coefficients = least_squares(&basis, &wanted, &weights);
+        let brdf = family.assemble(shape, &coefficients);
+        let fitted = lobe_values(renderer, &[brdf], &samples)?.remove(0);
+        Ok((rms_difference(&fitted, &wanted, &weights), brdf))
+    };
+    let (residual, brdf) = match family.shape {
+        None => solve(0.0)?,
+        Some((_, low, high, log)) => {
+            let (to, from) = scale(log);
+            let (a, b) = (to(low), to(high));
+            // A scan of the range, then a golden-section search between the best point's neighbours.
+            let scan = 24;
+            let mut best = (f64::INFINITY, 0);
+            for k in 0..=scan {
+                let (residual, _) = solve(from(a + (b - a) * k as f64 / scan as f64))?;
+                if residual < best.0 {
+                    best = (residual, k);
+                }
+            }
+            let step = (b - a) / scan as f64;
+            let (mut lo, mut hi) =
+                ((a + step * (best.1 as f64 - 1.0)).max(a), (a + step * (best.1 as f64 + 1.0)).min(b));
+            let golden = 0.5 * (5f64.sqrt() - 1.0);
+            for _ in 0..40 {
+                let (x1, x2) = (hi - golden * (hi - lo), lo + golden * (hi - lo));
+                if solve(from(x1))?.0 <= solve(from(x2))?.0 {
+                    hi = x2;
+                } else {
+                    lo = x1;
+                }
+            }
+            solve(from(0.5 * (lo + hi)))?
+        }
+    };
+    let zero = vec![[0.0; 3]; wanted.len()];
+    Ok(Some(Fit { brdf, residual, target_rms: rms_difference(&zero, &wanted, &weights) }))
+}
+
+/// A map of a shape parameter to or from the scale it is searched on.
+type ScaleMap = fn(f64) -> f64;
+
+/// The maps to and from the scale a shape parameter is searched on.
+fn scale(log: bool) -> (ScaleMap, ScaleMap) {
+    if log {
+        (f64::ln, f64::exp)
+    } else {
+        (|x| x, |x| x)
+    }
+}
+
+/// f_r cos(theta_o) of each brdf at each sample, from the probe pass.
+fn lobe_values(renderer: &mut Renderer, brdfs: &[Brdf], samples: &[Sample]) -> Result<Vec<Vec<[f64; 3]>>> {
+    let cases: Vec<ProbeCase> = brdfs
+        .iter()
+        .flat_map(|&brdf| samples.iter().map(move |s| ProbeCase { brdf, n: Vec3::Z, wi: s.wi, wo: s.wo }))
+        .collect();
+    let values = renderer.probe_brdfs(&cases)?;
+    Ok(values
+        .chunks_exact(samples.len())
+        .map(|lobe| lobe.iter().zip(samples).map(|(f, s)| (f.as_dvec3() * f64::from(s.wo.z)).to_array()).collect())
+        .collect())
+}
+
+/// Per channel, the coefficients c minimising sum of w (sum_k c_k basis_k - wanted)^2 (normal equations,
+/// at most three unknowns, solved by Gaussian elimination).
+fn least_squares(basis: &[Vec<[f64; 3]>], wanted: &[[f64; 3]], weights: &[f64]) -> Vec<Vec3> {
+    let k = basis.len();
+    let mut coefficients = vec![Vec3::ZERO; k];
+    for channel in 0..3 {
+        let mut a = vec![vec![0.0f64; k + 1]; k];
+        for (i, row) in a.iter_mut().enumerate() {
+            for j in 0..k {
+                row[j] = (0..wanted.len()).map(|s| weights[s] * basis[i][s][channel] * basis[j][s][channel]).sum();
+            }
+            row[k] = (0..wanted.len()).map(|s| weights[s] * basis[i][s][channel] * wanted[s][channel]).sum();
+        }
+        for column in 0..k {
+            let pivot =
+                (column..k).max_by(|&x, &y| a[x][column].abs().total_cmp(&a[y][column].abs())).unwrap_or(column);
+            a.swap(column, pivot);
+            if a[column][column].abs() < 1e-300 {
+                continue; // a basis function that is zero here: its coefficient stays 0
+            }
+            let pivot_row = a[column].clone();
+            for (row, values) in a.iter_mut().enumerate() {
+                if row != column {
+                    let factor = values[column] / pivot_row[column];
+                    for (value, pivot) in values.iter_mut().zip(&pivot_row).skip(column) {
+                        *value -= factor * pivot;
+                    }
+                }
+            }
+        }
+        for (i, c) in coefficients.iter_mut().enumerate() {
+            if a[i][i].abs() >= 1e-300 {
+                c[channel] = (a[i][k] / a[i][i]) as f32;
+            }
+        }
+    }
+    coefficients
+}
+
+/// The weighted root mean square of the luminance of (a - b).
+fn rms_difference(a: &[[f64; 3]], b: &[[f64; 3]], weights: &[f64]) -> f64 {
+    let luminance = |v: [f64; 3]| 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2];
+    let total: f64 = weights.iter().sum();
+    let sum: f64 = a.iter().zip(b).zip(weights).map(|((x, y), w)| w * (luminance(*x) - luminance(*y)).powi(2)).sum();
+    (sum / total).sqrt()
+}
