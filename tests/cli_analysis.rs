@@ -17,6 +17,8 @@ fn succeeds(args: &[&str]) -> String {
     let output = vk_render(args);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{args:?}: {stderr}");
+    // Standard error is no terminal here: the progress bars draw nothing.
+    assert!(stderr.is_empty(), "{args:?} wrote to standard error: {stderr}");
     String::from_utf8_lossy(&output.stdout).to_string()
 }
 

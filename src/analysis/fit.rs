@@ -133,17 +133,31 @@ impl Family {
     }
 }
 
-/// Fits `model` (one of [`FIT_MODELS`]) to `target` over the incidence angles `theta_i` (degrees).
-/// `None` when the model is not one of them.
+/// How many models a fit tries ([`fit`]'s progress counts them): the scan's, the search's and the last.
+pub const FIT_STEPS: usize = SCAN + 1 + 2 * GOLDEN_STEPS + 1;
+const SCAN: usize = 24;
+const GOLDEN_STEPS: usize = 40;
+
+/// Fits `model` (one of [`FIT_MODELS`]) to `target` over the incidence angles `theta_i` (degrees), telling
+/// `progress` how many models it has tried. `None` when the model is not one of them.
 ///
 /// # Errors
 /// What the probe pass returns.
-pub fn fit(renderer: &mut Renderer, target: &Brdf, model: &str, theta_i: &[f64]) -> Result<Option<Fit>> {
+pub fn fit(
+    renderer: &mut Renderer,
+    target: &Brdf,
+    model: &str,
+    theta_i: &[f64],
+    mut progress: impl FnMut(usize),
+) -> Result<Option<Fit>> {
     let Some(family) = Family::new(model, target) else { return Ok(None) };
     let samples = samples(theta_i);
     let wanted = lobe_values(renderer, &[*target], &samples)?.remove(0);
     let weights: Vec<f64> = samples.iter().map(|s| s.weight).collect();
+    let mut tried = 0;
     let mut solve = |shape: f64| -> Result<(f64, Brdf)> {
+        tried += 1;
+        progress(tried);
         let shape = shape as f32;
         let basis = lobe_values(renderer, &family.basis(shape), &samples)?;
         let coefficients = least_squares(&basis, &wanted, &weights);
@@ -157,7 +171,7 @@ pub fn fit(renderer: &mut Renderer, target: &Brdf, model: &str, theta_i: &[f64])
             let (to, from) = scale(log);
             let (a, b) = (to(low), to(high));
             // A scan of the range, then a golden-section search between the best point's neighbours.
-            let scan = 24;
+            let scan = SCAN;
             let mut best = (f64::INFINITY, 0);
             for k in 0..=scan {
                 let (residual, _) = solve(from(a + (b - a) * k as f64 / scan as f64))?;
@@ -169,7 +183,7 @@ pub fn fit(renderer: &mut Renderer, target: &Brdf, model: &str, theta_i: &[f64])
             let (mut lo, mut hi) =
                 ((a + step * (best.1 as f64 - 1.0)).max(a), (a + step * (best.1 as f64 + 1.0)).min(b));
             let golden = 0.5 * (5f64.sqrt() - 1.0);
-            for _ in 0..40 {
+            for _ in 0..GOLDEN_STEPS {
                 let (x1, x2) = (hi - golden * (hi - lo), lo + golden * (hi - lo));
                 if solve(from(x1))?.0 <= solve(from(x2))?.0 {
                     hi = x2;

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::SetArgs;
-use vk_render::analysis::fit::{fit, DEFAULT_THETA_I, FIT_MODELS};
+use super::{progress, SetArgs};
+use vk_render::analysis::fit::{fit, DEFAULT_THETA_I, FIT_MODELS, FIT_STEPS};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::{describe, rgb, select_materials, Channel};
 use vk_render::brdf::Brdf;
@@ -53,7 +53,10 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
         }
     }
     let mut renderer = Renderer::new(options)?;
-    let Some(fitted) = fit(&mut renderer, &target.brdf, &args.to, &args.theta_i)? else {
+    let bar = progress(FIT_STEPS, "fit");
+    let fitted = fit(&mut renderer, &target.brdf, &args.to, &args.theta_i, |tried| bar.set_position(tried as u64))?;
+    bar.finish_and_clear();
+    let Some(fitted) = fitted else {
         anyhow::bail!("--to {}: not a model (expected one of {})", args.to, FIT_MODELS.join(", "));
     };
     let angles: Vec<String> = args.theta_i.iter().map(f64::to_string).collect();

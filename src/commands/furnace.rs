@@ -3,7 +3,7 @@
 use clap::Args;
 use plotters::style::RGBColor;
 
-use super::{StudyArgs, StudyFile};
+use super::{progress, StudyArgs, StudyFile};
 use vk_render::analysis::albedo::ALBEDO_TOLERANCE;
 use vk_render::analysis::describe;
 use vk_render::analysis::furnace::{furnace, FurnaceRow};
@@ -24,7 +24,12 @@ pub fn run(args: FurnaceArgs, options: RendererOptions) -> anyhow::Result<()> {
     let materials = args.study.materials()?;
     let file = args.study.output_file()?;
     let mut renderer = Renderer::new(options)?;
-    let rows = furnace(&mut renderer, &materials, ALBEDO_TOLERANCE, |_, _| {})?;
+    let bar = progress(0, "furnace");
+    let rows = furnace(&mut renderer, &materials, ALBEDO_TOLERANCE, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
     let cells: Vec<[String; 6]> = rows.iter().map(cells).collect();
     for row in &cells {
         println!("{:<10} {:<70} {:>10} {:>11} {:>7}  {}", row[0], row[1], row[2], row[3], row[4], row[5]);

@@ -144,3 +144,15 @@ pub fn render_png_pixels(renderer: &mut Renderer, scene: &Scene) -> vk_render::R
     }
     Ok(image.to_rgb8(&scene.image))
 }
+
+/// A progress bar on standard error for a long command (sweeps, figures, fits, furnace tables, albedos):
+/// drawn only when standard error is a terminal (indicatif draws nothing otherwise, so scripts and pipes see
+/// no such output), cleared when dropped.
+pub fn progress(len: usize, what: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len as u64);
+    if let Ok(style) = indicatif::ProgressStyle::with_template("{msg} [{bar:32}] {pos}/{len} ({elapsed})") {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_message(what.to_string());
+    bar
+}

@@ -4,7 +4,7 @@
 use clap::{Args, Subcommand, ValueEnum};
 use glam::Vec3;
 
-use super::{StudyArgs, StudyFile};
+use super::{progress, StudyArgs, StudyFile};
 use vk_render::analysis::albedo::{albedo_angles, directional_albedos, ALBEDO_TOLERANCE};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::slice::slices;
@@ -182,11 +182,14 @@ fn albedo(args: AlbedoArgs, options: RendererOptions) -> anyhow::Result<()> {
     let radians: Vec<f64> = angles.iter().map(|a| a.to_radians()).collect();
     let mut curves = Vec::new();
     let mut bound = 0.0f64;
+    let bar = progress(materials.len(), "albedo");
     for material in &materials {
         let albedos = directional_albedos(&mut renderer, &material.brdf, &radians, ALBEDO_TOLERANCE)?;
+        bar.inc(1);
         bound = albedos.iter().fold(bound, |b, a| b.max(a.error_bound));
         curves.push(albedos.iter().map(|a| a.rho).collect::<Vec<_>>());
     }
+    bar.finish_and_clear();
     println!(
         "directional albedo of {} material(s) at {} angles from 0 to 89.9 degrees, each within {bound:.1e} \
          (asked: {ALBEDO_TOLERANCE:.0e}; adaptive Gauss-Kronrod cubature on the GPU)",

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use super::render_png_pixels;
+use super::{progress, render_png_pixels};
 use vk_render::output::{write_png, write_png_rows};
 use vk_render::sheet::SheetLayout;
 use vk_render::{Renderer, Scene};
@@ -27,11 +27,13 @@ pub fn render_sheet(
     let tile_size = tiles.iter().fold((0, 0), |(w, h), t| (w.max(t.scene.image.width), h.max(t.scene.image.height)));
     let layout = SheetLayout::new(Some(title), tiles.len(), tile_size, columns);
     let mut written: Vec<&std::path::Path> = Vec::new();
+    let bar = progress(tiles.len(), title);
     let result = write_png_rows(sheet_path, layout.size(), |band| {
         band(&layout.title_band())?;
         let mut row = Vec::with_capacity(layout.columns);
         for (index, tile) in tiles.iter().enumerate() {
             let image = render_png_pixels(renderer, &tile.scene)?;
+            bar.inc(1);
             write_png(&image, &tile.path)?;
             written.push(&tile.path);
             row.push((tile.label.clone(), image));
@@ -54,6 +56,7 @@ pub fn render_sheet(
             written.len()
         );
     }
+    bar.finish_and_clear();
     println!("{}", sheet_path.display());
     Ok(())
 }
