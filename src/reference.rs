@@ -119,7 +119,7 @@ fn build_geometry(scene: &Scene) -> Result<Vec<Geometry>> {
             Ok(match object.shape {
                 Shape::Sphere { center, radius } => Geometry::Sphere { center, radius },
                 Shape::Plane { point, normal } => Geometry::Plane { point, normal },
-                Shape::Mesh { ref path, .. } => {
+                Shape::Mesh { .. } | Shape::Triangles(_) => {
                     let normal_matrix = Mat3::from_mat4(placed.model).inverse().transpose();
                     let positions = placed
                         .mesh
@@ -132,7 +132,10 @@ fn build_geometry(scene: &Scene) -> Result<Vec<Geometry>> {
                     let triangles = TriMesh::new(positions.collect(), indices).map_err(|e| Error::Mesh {
                         scene: scene.source.clone(),
                         key: format!("object.{index}.path"),
-                        value: path.display().to_string(),
+                        value: match &object.shape {
+                            Shape::Mesh { path, .. } => path.display().to_string(),
+                            _ => "(triangles)".into(),
+                        },
                         message: format!("the reference cannot trace it: {e}"),
                     })?;
                     Geometry::Mesh { triangles: Box::new(triangles), normals: normals.collect() }

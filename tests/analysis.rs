@@ -324,3 +324,44 @@ fn blinn_phong_fitted_to_ggx_nears_walters_mapping_as_the_lobe_narrows() {
     assert!(gaps[0].abs() < 0.05 && gaps[2].abs() < 0.25, "{gaps:?}");
     assert!(gaps[0].abs() < gaps[1].abs() && gaps[1].abs() < gaps[2].abs(), "{gaps:?}");
 }
+
+#[test]
+fn the_3d_lobe_is_the_rust_lobe_and_renders_with_its_arrows() {
+    use vk_render::analysis::lobe3d::{lobe_scene, Viewpoint};
+    use vk_render::scene::Shape;
+    let gold = NamedBrdf {
+        name: "gold".into(),
+        brdf: Brdf::CookTorrance {
+            kd: GOLD,
+            f0: GOLD,
+            roughness: 0.4,
+            metalness: 1.0,
+            diffuse: DiffuseModel::OrenNayar,
+        },
+    };
+    let from = Viewpoint { elevation: 25.0, azimuth: 30.0 };
+    let scene = lobe_scene(&mut common::renderer(), &gold, 40.0, from, (320, 240), std::path::Path::new("lobe3d"))
+        .expect("probe");
+    let Shape::Triangles(lobe) = &scene.objects[0].shape else { panic!("the lobe is a mesh") };
+    // World = R_x(-90 degrees) brdf: the BRDF frame's (x, y, z) is the world's (x, -z, y).
+    let wi = Vec3::new(40f32.to_radians().sin(), 0.0, 40f32.to_radians().cos());
+    let mut checked = 0;
+    for p in &lobe.positions {
+        let r = p.length();
+        if r < 1e-4 {
+            continue;
+        }
+        let wo = Vec3::new(p.x, -p.z, p.y) / r;
+        let f = gold.brdf.eval(Vec3::Z, wi, wo);
+        let expected = (0.2126 * f.x + 0.7152 * f.y + 0.0722 * f.z) * wo.z;
+        assert!((r - expected).abs() <= 1e-4 * expected.max(0.01), "radius {r} at {wo}, expected {expected}");
+        checked += 1;
+    }
+    assert!(checked > 10_000, "{checked} vertices checked");
+    // Rendered with the validation layer on: the lobe (blue) and the incident arrow (yellow) are seen.
+    let image = common::renderer().render_rgb8(&scene).expect("render with no validation message");
+    let count = |test: fn(&image::Rgb<u8>) -> bool| image.pixels().filter(|p| test(p)).count();
+    let blue = count(|p| p.0[2] > 150 && p.0[0] < 150);
+    let yellow = count(|p| p.0[0] > 150 && p.0[1] > 120 && p.0[2] < 90);
+    assert!(blue > 800 && yellow > 40, "blue {blue}, yellow {yellow} pixels");
+}

@@ -262,3 +262,34 @@ fn fit_prints_name_value_lines_and_draws_the_lobes() {
         );
     }
 }
+
+#[test]
+fn plot_lobe3d_renders_a_panel_per_material() {
+    let folder = temp_dir();
+    let png = folder.path().join("lobe3d.png");
+    let fig2 = fig2();
+    succeeds(&[
+        "plot",
+        "lobe3d",
+        &fig2,
+        "--theta-i",
+        "45",
+        "--size",
+        "200,150",
+        "--from",
+        "30,-20",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    let picture = image::open(&png).unwrap().to_rgb8();
+    assert!(picture.width() > 2 * 200 && picture.height() > 150, "{:?}", picture.dimensions());
+    std::fs::remove_file(&png).unwrap();
+    let svg = folder.path().join("lobe3d.svg");
+    fails(folder.path(), &["plot", "lobe3d", &fig2, "-o", svg.to_str().unwrap()], 1, &["rendered, to a .png"]);
+    fails(
+        folder.path(),
+        &["plot", "lobe3d", &fig2, "--from", "95,0", "-o", png.to_str().unwrap()],
+        1,
+        &["--from 95,0"],
+    );
+}

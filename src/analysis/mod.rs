@@ -7,6 +7,7 @@ pub mod albedo;
 pub mod fit;
 pub mod furnace;
 pub mod lobe;
+pub mod lobe3d;
 pub mod slice;
 
 use glam::Vec3;

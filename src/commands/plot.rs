@@ -7,12 +7,14 @@ use glam::Vec3;
 use super::{progress, StudyArgs, StudyFile};
 use vk_render::analysis::albedo::{albedo_angles, directional_albedos, ALBEDO_TOLERANCE};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
+use vk_render::analysis::lobe3d::{lobe_scene, Viewpoint};
 use vk_render::analysis::slice::slices;
 use vk_render::analysis::{angle_table, describe, rgb, Channel};
 use vk_render::chart::{
     value_range, write_chart, ChartFile, HeatMap, HeatMapChart, LineChart, LobeChart, Series, PALETTE,
 };
-use vk_render::output::write_file;
+use vk_render::output::{write_file, write_png};
+use vk_render::report::side_by_side;
 use vk_render::{Renderer, RendererOptions};
 
 #[derive(Args)]
@@ -29,6 +31,9 @@ enum Plot {
     /// Directional albedo rho(theta_o) = integral of f_r cos(theta_i) over the hemisphere, every degree,
     /// integrated on the GPU to a stated accuracy.
     Albedo(AlbedoArgs),
+    /// BRDF Explorer's 3D lobe, rendered by vk-render's Vulkan pipeline: the lobe as a mesh whose radius in
+    /// each direction is f_r cos(theta_o), with wi, the normal and the mirror direction as arrows (PNG).
+    Lobe3d(Lobe3dArgs),
     /// BRDF Explorer's image slice: f_r over theta_h (x) and theta_d (y) at a fixed phi_d, in false colour
     /// with a colour bar. A CSV holds theta_h, theta_d, then three columns per material, every degree.
     Slice(SliceArgs),
@@ -108,12 +113,32 @@ struct SliceArgs {
     channel: ChannelArg,
 }
 
+#[derive(Args)]
+struct Lobe3dArgs {
+    #[command(flatten)]
+    study: StudyArgs,
+
+    /// The incidence angle in degrees from the normal, 0 to below 90.
+    #[arg(long, value_name = "DEGREES", default_value_t = 30.0)]
+    theta_i: f32,
+
+    /// Where the lobe is seen from: degrees above the surface, then degrees round the normal from the front
+    /// of the plane of incidence.
+    #[arg(long, value_name = "ELEVATION,AZIMUTH", value_delimiter = ',', num_args = 1, default_values_t = [25.0, 30.0], allow_negative_numbers = true)]
+    from: Vec<f32>,
+
+    /// Each panel's width and height in pixels.
+    #[arg(long, value_name = "WIDTH,HEIGHT", value_delimiter = ',', default_values_t = [640, 480])]
+    size: Vec<u32>,
+}
+
 /// Runs the plot asked for.
 pub fn run(args: PlotArgs, options: RendererOptions) -> anyhow::Result<()> {
     match args.plot {
         Plot::Lobe(args) => lobe(args, options),
         Plot::Albedo(args) => albedo(args, options),
         Plot::Slice(args) => slice(args, options),
+        Plot::Lobe3d(args) => lobe3d(args, options),
     }
 }
 
@@ -292,5 +317,38 @@ fn slice(args: SliceArgs, options: RendererOptions) -> anyhow::Result<()> {
         range,
     };
     write_chart(&chart, &args.study.output)?;
+    Ok(())
+}
+
+fn lobe3d(args: Lobe3dArgs, options: RendererOptions) -> anyhow::Result<()> {
+    let materials = args.study.materials()?;
+    if args.study.output_file()? != StudyFile::Chart(ChartFile::Png) {
+        anyhow::bail!("{}: a 3D lobe is rendered, to a .png image", args.study.output.display());
+    }
+    if !(0.0..90.0).contains(&args.theta_i) {
+        anyhow::bail!("--theta-i {}: an incidence angle is from 0 to below 90 degrees", args.theta_i);
+    }
+    let (&[elevation, azimuth], &[width, height]) = (args.from.as_slice(), args.size.as_slice()) else {
+        anyhow::bail!("--from takes ELEVATION,AZIMUTH and --size WIDTH,HEIGHT: two numbers each");
+    };
+    if !(elevation.is_finite() && azimuth.is_finite() && (-90.0..=90.0).contains(&elevation)) {
+        anyhow::bail!("--from {elevation},{azimuth}: the elevation is from -90 to 90 degrees, the azimuth a number");
+    }
+    if !(16..=4096).contains(&width) || !(16..=4096).contains(&height) {
+        anyhow::bail!("--size {width},{height}: each side is from 16 to 4096 pixels");
+    }
+    let mut renderer = Renderer::new(options)?;
+    let from = Viewpoint { elevation, azimuth };
+    let mut panels = Vec::new();
+    for material in &materials {
+        let scene = lobe_scene(&mut renderer, material, args.theta_i, from, (width, height), &args.study.scene)?;
+        panels.push((format!("{}: {}", material.name, describe(&material.brdf)), renderer.render_rgb8(&scene)?));
+    }
+    let title = format!(
+        "f_r cos θo (luminance) at θi = {}°, each lobe to its own scale, seen from {elevation}° above and {azimuth}° round: blue the lobe, \
+         yellow wi, white n, red the mirror direction",
+        args.theta_i
+    );
+    write_png(&side_by_side(&title, &panels, None), &args.study.output)?;
     Ok(())
 }

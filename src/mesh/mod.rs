@@ -312,6 +312,16 @@ pub fn place_objects(scene: &Scene) -> Result<Vec<PlacedMesh>> {
                     })?;
                     PlacedMesh { mesh, model: Shape::mesh_transform(*scale, *rotate, *translate), exact_sphere: false }
                 }
+                Shape::Triangles(triangles) => {
+                    let vertices = triangles
+                        .positions
+                        .iter()
+                        .zip(&triangles.normals)
+                        .map(|(p, n)| Vertex { position: p.extend(1.0).into(), normal: (*n).into() })
+                        .collect();
+                    let mesh = Arc::new(Mesh { vertices, indices: triangles.indices.clone() });
+                    PlacedMesh { mesh, model: Mat4::IDENTITY, exact_sphere: false }
+                }
             })
         })
         .collect()

@@ -205,7 +205,7 @@ impl Controls {
         let shape = match object.shape {
             Shape::Sphere { .. } => "sphere",
             Shape::Plane { .. } => "plane",
-            Shape::Mesh { .. } => "mesh",
+            Shape::Mesh { .. } | Shape::Triangles(_) => "mesh",
         };
         format!(
             "vk-render: object {}/{} ({shape}, material {}): {} - {frame_ms:.1} ms",

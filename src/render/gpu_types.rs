@@ -182,7 +182,7 @@ impl From<&Brdf> for GpuMaterial {
 impl GpuObject {
     /// An object placed by `model`.
     pub fn new(object: &Object, model: Mat4) -> Self {
-        let two_sided = matches!(object.shape, Shape::Plane { .. });
+        let two_sided = matches!(object.shape, Shape::Plane { .. } | Shape::Triangles(_));
         Self {
             model: model.to_cols_array_2d(),
             normal_matrix: model.inverse().transpose().to_cols_array_2d(),

@@ -218,6 +218,17 @@ pub enum Shape {
         rotate: Vec3,
         translate: Vec3,
     },
+    /// Triangles a command makes rather than a file (the 3D lobe plot's lobe, arrows and disc).
+    Triangles(std::sync::Arc<Triangles>),
+}
+
+/// Triangles in world space, each vertex with its normal, three indices a triangle, wound counter-clockwise
+/// seen from the side the normals face.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Triangles {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub indices: Vec<u32>,
 }
 
 impl Shape {
