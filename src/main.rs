@@ -38,7 +38,7 @@ enum Command {
     /// Render one image per value of a scene key and a labelled contact sheet of them (PNG).
     Sweep(commands::sweep::SweepArgs),
     /// Show a scene live in a window: drag to orbit, wheel to zoom, R to reset, Tab to select an object,
-    /// 1-5 to switch its BRDF, Up/Down its main parameter, Left/Right its metalness, L shadows, S a
+    /// 1-5 to switch its BRDF, Up/Down its main parameter, Left/Right its metalness, L shadows, B the selected object's BRDF lobe, S a
     /// screenshot, Esc to quit. The scene file and shaders/ are reloaded when they change.
     #[cfg(feature = "preview")]
     Preview(commands::preview::PreviewArgs),

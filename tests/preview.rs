@@ -156,3 +156,16 @@ fn copy_tree(from: &Path, to: &Path) {
         }
     }
 }
+
+#[test]
+fn b_shows_the_selected_objects_lobe() {
+    // B: the first object's (the sphere's) lobe for the first light, standing on its highlight.
+    let shot = screenshot((320, 240), 3, "b");
+    let size = ["image.width=320", "image.height=240"];
+    let mut scene = asset_scene("fig1-lambert.toml", &size);
+    let lobe =
+        vk_render::analysis::lobe3d::lobe_on_object(&mut renderer(), &scene, 0).unwrap().expect("a sphere's lobe");
+    scene.objects.extend(lobe);
+    assert_same(&shot, &render(&scene).to_rgb8(&scene.image), "with the lobe");
+    assert_ne!(shot, offscreen("fig1-lambert.toml", &size), "B changed nothing");
+}

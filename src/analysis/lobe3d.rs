@@ -40,6 +40,7 @@ pub const INCIDENT_COLOUR: Vec3 = Vec3::new(1.0, 0.8, 0.15);
 pub const NORMAL_COLOUR: Vec3 = Vec3::new(0.9, 0.9, 0.9);
 pub const MIRROR_COLOUR: Vec3 = Vec3::new(0.95, 0.25, 0.2);
 
+/// The turn from the BRDF frame to the world of [`lobe_scene`], the normal up.
 fn to_world(v: Vec3) -> Vec3 {
     Quat::from_rotation_x(-FRAC_PI_2) * v
 }
@@ -59,7 +60,7 @@ pub fn lobe_scene(
 ) -> Result<Scene> {
     let incidence = theta_i.to_radians();
     let wi = Vec3::new(incidence.sin(), 0.0, incidence.cos());
-    let lobe = lobe_mesh(renderer, &material.brdf, wi)?;
+    let lobe = placed(&lobe_mesh(renderer, &material.brdf, wi)?, Quat::from_rotation_x(-FRAC_PI_2), 1.0, Vec3::ZERO);
     let reach = lobe.positions.iter().map(|p| p.length()).fold(0.0f32, f32::max).max(1e-6);
     let arrow_length = 1.25 * reach;
     let radius = 0.012 * reach;
@@ -102,13 +103,22 @@ pub fn lobe_scene(
     })
 }
 
+/// An object of the lobe's picture: it casts no shadow (a lobe shown in a scene must not darken it).
 fn object(triangles: Arc<Triangles>, name: &str, colour: Vec3) -> Object {
-    Object { shape: Shape::Triangles(triangles), material: name.to_string(), brdf: Brdf::Lambert { kd: 0.6 * colour } }
+    Object {
+        shape: Shape::Triangles(triangles),
+        material: name.to_string(),
+        brdf: Brdf::Lambert { kd: 0.6 * colour },
+        casts_shadow: false,
+    }
 }
 
-/// The lobe as a mesh in world space: the point r(wo) wo for each wo of the grid, r = f_r(wi, wo) cos(theta_o)
-/// (luminance), with normals averaged from the faces.
-fn lobe_mesh(renderer: &mut Renderer, brdf: &Brdf, wi: Vec3) -> Result<Triangles> {
+/// The lobe as a mesh in the BRDF frame (n = +z, `wi` given in it): the point r(wo) wo for each wo of the grid,
+/// r = f_r(wi, wo) cos(theta_o) (luminance), with normals averaged from the faces.
+///
+/// # Errors
+/// What the probe pass returns.
+pub fn lobe_mesh(renderer: &mut Renderer, brdf: &Brdf, wi: Vec3) -> Result<Triangles> {
     let direction = |t: usize, p: usize| {
         let (theta, phi) = (t as f32 * FRAC_PI_2 / THETA_STEPS as f32, p as f32 * 2.0 * PI / PHI_STEPS as f32);
         Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())
@@ -121,7 +131,7 @@ fn lobe_mesh(renderer: &mut Renderer, brdf: &Brdf, wi: Vec3) -> Result<Triangles
         .zip(values)
         .map(|(&wo, f)| {
             let r = Channel::Luminance.of(f.as_dvec3().to_array()) as f32 * wo.z.max(0.0);
-            to_world(r.max(0.0) * wo)
+            r.max(0.0) * wo
         })
         .collect();
     let index = |t: usize, p: usize| (t * PHI_STEPS + p % PHI_STEPS) as u32;
@@ -148,7 +158,60 @@ fn face_averaged_normals(positions: &[Vec3], indices: &[u32], fallback: &[Vec3])
             normals[i as usize] += face;
         }
     }
-    normals.iter().zip(fallback).map(|(n, f)| n.try_normalize().unwrap_or_else(|| to_world(*f))).collect()
+    normals.iter().zip(fallback).map(|(n, f)| n.try_normalize().unwrap_or(*f)).collect()
+}
+
+/// `triangles` turned by `rotation`, scaled by `scale` and moved to `anchor`.
+pub fn placed(triangles: &Triangles, rotation: Quat, scale: f32, anchor: Vec3) -> Triangles {
+    Triangles {
+        positions: triangles.positions.iter().map(|&p| anchor + scale * (rotation * p)).collect(),
+        normals: triangles.normals.iter().map(|&n| rotation * n).collect(),
+        indices: triangles.indices.clone(),
+    }
+}
+
+/// The lobe of object `index`'s material for the scene's first light, as objects to add to the scene: the
+/// lobe, and an arrow towards the light, standing on the point of a sphere that faces halfway between the
+/// light and the camera's up or, on a plane, where the camera's view meets it; neither casts a shadow. None
+/// for meshes, or without a light.
+///
+/// # Errors
+/// What the probe pass returns.
+pub fn lobe_on_object(renderer: &mut Renderer, scene: &Scene, index: usize) -> Result<Option<Vec<Object>>> {
+    let (Some(studied), Some(light)) = (scene.objects.get(index), scene.lights.first()) else { return Ok(None) };
+    let eye = scene.camera.position;
+    let (anchor, n, size) = match studied.shape {
+        Shape::Sphere { center, radius } => {
+            // Halfway between the light and the camera's up: lit, and its plane of incidence stands up in
+            // the view, so that the lobe is seen from its side rather than end on.
+            let to_light = (light.position - center).normalize_or_zero();
+            let n = (to_light + scene.camera.up.normalize_or_zero()).try_normalize().unwrap_or(to_light);
+            (center + radius * n, n, 0.8 * radius)
+        }
+        Shape::Plane { point, normal } => {
+            let forward = (scene.camera.look_at - eye).normalize_or_zero();
+            let t = normal.dot(point - eye) / normal.dot(forward);
+            let anchor = if t.is_finite() && t > 0.0 { eye + t * forward } else { point };
+            (anchor, normal, 0.25 * (anchor - eye).length())
+        }
+        Shape::Mesh { .. } | Shape::Triangles(_) => return Ok(None),
+    };
+    let to_light = (light.position - anchor).normalize_or_zero();
+    // The BRDF frame at the anchor: n up, wi in the xz-plane on the +x side.
+    let tangent = (to_light - to_light.dot(n) * n).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector());
+    let rotation = Quat::from_mat3(&glam::Mat3::from_cols(tangent, n.cross(tangent), n));
+    let wi = rotation.inverse() * to_light;
+    let lobe = lobe_mesh(renderer, &studied.brdf, wi)?;
+    let reach = lobe.positions.iter().map(|p| p.length()).fold(0.0f32, f32::max).max(1e-6);
+    let scale = size / reach;
+    Ok(Some(vec![
+        object(Arc::new(placed(&lobe, rotation, scale, anchor)), "lobe", LOBE_COLOUR),
+        object(
+            Arc::new(placed(&arrow(to_light, 1.2 * size, 0.012 * size), Quat::IDENTITY, 1.0, anchor)),
+            "wi",
+            INCIDENT_COLOUR,
+        ),
+    ]))
 }
 
 /// An arrow from the origin along unit `direction`: a cylinder of `radius` and a cone twice as wide over the

@@ -79,6 +79,8 @@ pub struct PlacedMesh {
     pub model: Mat4,
     /// The mesh bounds a sphere (of model translate(center) * scale(radius)) that is drawn exactly.
     pub exact_sphere: bool,
+    /// Drawn into the shadow cubes (the object's [`crate::scene::Object::casts_shadow`]).
+    pub casts_shadow: bool,
 }
 
 /// Longitude and latitude steps of the mesh that stands for every sphere.
@@ -291,17 +293,19 @@ pub fn place_objects(scene: &Scene) -> Result<Vec<PlacedMesh>> {
         .iter()
         .enumerate()
         .map(|(index, object)| {
-            Ok(match &object.shape {
+            let placed = match &object.shape {
                 Shape::Sphere { center, radius } => PlacedMesh {
                     mesh: bounding_sphere(),
                     model: Mat4::from_translation(*center) * Mat4::from_scale(Vec3::splat(*radius)),
                     exact_sphere: true,
+                    casts_shadow: true,
                 },
                 Shape::Plane { point, normal } => PlacedMesh {
                     mesh: unit_plane(),
                     model: Mat4::from_translation(*point)
                         * Mat4::from_quat(glam::Quat::from_rotation_arc(Vec3::Y, normal.normalize())),
                     exact_sphere: false,
+                    casts_shadow: true,
                 },
                 Shape::Mesh { path, scale, rotate, translate } => {
                     let mesh = load_obj_kept(path).map_err(|message| Error::Mesh {
@@ -310,7 +314,8 @@ pub fn place_objects(scene: &Scene) -> Result<Vec<PlacedMesh>> {
                         value: path.display().to_string(),
                         message,
                     })?;
-                    PlacedMesh { mesh, model: Shape::mesh_transform(*scale, *rotate, *translate), exact_sphere: false }
+                    let model = Shape::mesh_transform(*scale, *rotate, *translate);
+                    PlacedMesh { mesh, model, exact_sphere: false, casts_shadow: true }
                 }
                 Shape::Triangles(triangles) => {
                     let vertices = triangles
@@ -320,9 +325,10 @@ pub fn place_objects(scene: &Scene) -> Result<Vec<PlacedMesh>> {
                         .map(|(p, n)| Vertex { position: p.extend(1.0).into(), normal: (*n).into() })
                         .collect();
                     let mesh = Arc::new(Mesh { vertices, indices: triangles.indices.clone() });
-                    PlacedMesh { mesh, model: Mat4::IDENTITY, exact_sphere: false }
+                    PlacedMesh { mesh, model: Mat4::IDENTITY, exact_sphere: false, casts_shadow: true }
                 }
-            })
+            };
+            Ok(PlacedMesh { casts_shadow: object.casts_shadow, ..placed })
         })
         .collect()
 }

@@ -19,6 +19,8 @@ pub enum Action {
     Metalness(i32),
     /// L: turn every light's shadows off, or back to the scene's.
     ToggleShadows,
+    /// B: show the selected object's BRDF lobe for the first light, or hide it.
+    ToggleLobe,
     /// S: save a screenshot.
     Screenshot,
     /// R: back to the scene's camera.
@@ -39,6 +41,7 @@ pub fn key_action(key: &Key) -> Option<Action> {
         Key::Character(c) => match c.as_str() {
             "1" | "2" | "3" | "4" | "5" => Action::SetBrdf(c.parse::<usize>().ok()? - 1),
             "l" | "L" => Action::ToggleShadows,
+            "b" | "B" => Action::ToggleLobe,
             "s" | "S" => Action::Screenshot,
             "r" | "R" => Action::ResetCamera,
             _ => return None,
@@ -153,12 +156,14 @@ pub struct Controls {
     pub orbit: Orbit,
     /// The scene file's shadows flags, restored when L is pressed again.
     scene_shadows: Option<Vec<bool>>,
+    /// Whether the selected object's lobe is shown (B).
+    pub show_lobe: bool,
 }
 
 impl Controls {
     /// Controls starting on the scene's own camera.
     pub fn new(scene: &Scene) -> Self {
-        Self { selected: 0, orbit: Orbit::from_camera(&scene.camera), scene_shadows: None }
+        Self { selected: 0, orbit: Orbit::from_camera(&scene.camera), scene_shadows: None, show_lobe: false }
     }
 
     /// Applies an action to the scene (actions that are not about the scene do nothing here).
@@ -191,6 +196,7 @@ impl Controls {
                 }
             },
             Action::ResetCamera => self.orbit = Orbit::from_camera(original_camera),
+            Action::ToggleLobe => self.show_lobe = !self.show_lobe,
             _ => {}
         }
         self.selected = self.selected.min(count.saturating_sub(1));

@@ -24,9 +24,10 @@ use winit::window::{Window, WindowId};
 
 pub use controls::{key_action, parse_script, Action, Controls, Orbit, ScriptStep, ORBIT_STEP_PIXELS};
 
+use crate::analysis::lobe3d::lobe_on_object;
 use crate::error::{Error, Result};
 use crate::output::TexelOrder;
-use crate::scene::{Camera, Override, Scene};
+use crate::scene::{Camera, Object, Override, Scene};
 use crate::vulkan::{
     layer_range, layout_transition, whole_image_copy, Access, Buffer, BufferDesc, Instance, ShaderSources, Surface,
     Swapchain,
@@ -224,6 +225,9 @@ struct Running {
     overrides: Vec<Override>,
     watched: Watched,
     window: Arc<Window>,
+    /// The lobe shown (B): the scene and the object it was made for, and its objects, made again when either
+    /// changes (the camera included: the lobe stands where the camera sees it best).
+    lobe: Option<((Scene, usize), Vec<Object>)>,
 }
 
 impl Running {
@@ -265,6 +269,7 @@ impl Running {
             overrides: options.overrides.clone(),
             watched: Watched::new(&options.scene, options.shaders.clone()),
             window,
+            lobe: None,
         })
     }
 
@@ -361,13 +366,32 @@ impl Running {
         Ok(())
     }
 
+    /// The scene with the selected object's lobe added, when B asks for it (None: the scene alone). The lobe
+    /// is made again only when the scene changed (its mesh is uploaded once while it stays).
+    fn scene_with_lobe(&mut self) -> Result<Option<Scene>> {
+        if !self.controls.show_lobe {
+            return Ok(None);
+        }
+        let selected = self.controls.selected;
+        let current = self.lobe.as_ref().is_some_and(|((scene, index), _)| *index == selected && *scene == self.scene);
+        if !current {
+            let objects = lobe_on_object(&mut self.renderer, &self.scene, selected)?.unwrap_or_default();
+            self.lobe = Some(((self.scene.clone(), selected), objects));
+        }
+        let mut scene = self.scene.clone();
+        scene.objects.extend(self.lobe.as_ref().map(|(_, objects)| objects.clone()).unwrap_or_default());
+        Ok(Some(scene))
+    }
+
     /// Renders the scene at the swapchain's size and presents it, saving it to `screenshot` if given.
     /// Returns false when the swapchain was out of date (it is dropped, to be made anew).
     fn present(&mut self, screenshot: Option<&Path>) -> Result<bool> {
-        let Some(swapchain) = self.swapchain.as_ref() else { return Ok(false) };
-        let (width, height) = (swapchain.extent.width, swapchain.extent.height);
+        let Some(extent) = self.swapchain.as_ref().map(|s| s.extent) else { return Ok(false) };
+        let (width, height) = (extent.width, extent.height);
         self.scene.image.width = width;
         self.scene.image.height = height;
+        let shown = self.scene_with_lobe()?;
+        let Some(swapchain) = self.swapchain.as_ref() else { return Ok(false) };
         let device = self.renderer.device().clone();
         let size = u64::from(width) * u64::from(height) * 4;
         let upload = match self.upload.take().filter(|b| b.desc.size == size) {
@@ -380,7 +404,7 @@ impl Running {
         let upload = self.upload.insert(upload);
         let bgra = swapchain.format == vk::Format::B8G8R8A8_UNORM;
         let order = if bgra { TexelOrder::Bgra } else { TexelOrder::Rgba };
-        match self.renderer.render_texels(&self.scene, order, upload.bytes_mut()?) {
+        match self.renderer.render_texels(shown.as_ref().unwrap_or(&self.scene), order, upload.bytes_mut()?) {
             Ok(()) => self.last_good = self.scene.clone(),
             Err(e @ (Error::Scene { .. } | Error::Mesh { .. })) => {
                 log::error!("{e} (keeping the last good scene)");

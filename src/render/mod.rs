@@ -522,7 +522,7 @@ impl FrameRecording<'_> {
         let pass = targets.pass_targets();
         forward::begin(device, cmd, &pass);
         forward::draw_background(device, cmd, self.background, &pass);
-        draw_objects(device, cmd, self.layout, self.forward, self.camera, &pass, self.placed, self.meshes, (0, 0));
+        draw_objects(device, cmd, self.layout, self.forward, self.camera, &pass, self.placed, self.meshes, None);
         // SAFETY: as above.
         unsafe { device.raw.cmd_end_rendering(cmd) };
 
@@ -597,7 +597,7 @@ impl FrameRecording<'_> {
                 &targets,
                 self.placed,
                 self.meshes,
-                face.light_face,
+                Some(face.light_face),
             );
             // SAFETY: the command buffer is recording; every handle outlives the submission.
             unsafe { device.raw.cmd_end_rendering(cmd) };

@@ -209,7 +209,8 @@ impl PassView {
 
 /// Sets the viewport and scissor to the target and draws every object with its pipeline (`pipelines[i]` for
 /// object i), culling the back faces of closed meshes the viewpoint is outside of, and telling the shaders
-/// which object each draw is and, for the shadow pass, which light and cube face (`shadow_face`).
+/// which object each draw is and, for the shadow pass, which light and cube face (`shadow_face`; that pass
+/// leaves out the objects that cast no shadow).
 #[allow(clippy::too_many_arguments)] // one pass's whole state, recorded in one go
 pub fn draw_objects(
     device: &Device,
@@ -220,7 +221,7 @@ pub fn draw_objects(
     targets: &PassTargets,
     placed: &[PlacedMesh],
     meshes: &MeshUploads,
-    shadow_face: (u32, u32),
+    shadow_face: Option<(u32, u32)>,
 ) {
     // SAFETY: the command buffer is recording inside a render pass; the buffers outlive the submission.
     unsafe {
@@ -228,6 +229,9 @@ pub fn draw_objects(
         device.raw.cmd_set_front_face(cmd, view.front_face());
         let mut bound = None;
         for (index, (p, &pipeline)) in placed.iter().zip(pipelines).enumerate() {
+            if shadow_face.is_some() && !p.casts_shadow {
+                continue;
+            }
             if bound != Some(pipeline) {
                 device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 bound = Some(pipeline);
@@ -241,7 +245,8 @@ pub fn draw_objects(
             device.raw.cmd_set_cull_mode(cmd, cull);
             device.raw.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.raw], &[0]);
             device.raw.cmd_bind_index_buffer(cmd, mesh.indices.raw, 0, vk::IndexType::UINT32);
-            let push = [index as u32, shadow_face.0, shadow_face.1];
+            let (light, face) = shadow_face.unwrap_or((0, 0));
+            let push = [index as u32, light, face];
             let bytes: Vec<u8> = push.iter().flat_map(|v| v.to_ne_bytes()).collect();
             device.raw.cmd_push_constants(
                 cmd,

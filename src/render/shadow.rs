@@ -84,7 +84,10 @@ pub struct FaceKey {
 impl PartialEq for FaceKey {
     fn eq(&self, other: &Self) -> bool {
         let same_object = |(a, b): (&PlacedMesh, &PlacedMesh)| {
-            Arc::ptr_eq(&a.mesh, &b.mesh) && a.model == b.model && a.exact_sphere == b.exact_sphere
+            Arc::ptr_eq(&a.mesh, &b.mesh)
+                && a.model == b.model
+                && a.exact_sphere == b.exact_sphere
+                && a.casts_shadow == b.casts_shadow
         };
         self.size == other.size
             && self.light == other.light

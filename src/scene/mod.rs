@@ -31,7 +31,7 @@ pub const MAX_LIGHTS: usize = 16;
 pub const BUNNY_PATH: &str = "/usr/share/glmark2/models/bunny.obj";
 
 /// A validated scene, ready to render.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     /// The file it was read from: error messages name it and mesh paths are relative to it.
     pub source: PathBuf,
@@ -197,6 +197,9 @@ pub struct Object {
     /// The `[material.NAME]` it uses, kept for messages.
     pub material: String,
     pub brdf: Brdf,
+    /// Whether it is drawn into the shadow cubes: every object of a scene file is; what a command adds to
+    /// look at (the preview's lobe) is not.
+    pub casts_shadow: bool,
 }
 
 /// An object's geometry.

@@ -291,7 +291,7 @@ fn object(index: usize, s: &ObjectSection, materials: &BTreeMap<String, Brdf>, s
             }
         }
     };
-    Ok(Object { shape, material: s.material.clone(), brdf })
+    Ok(Object { shape, material: s.material.clone(), brdf, casts_shadow: true })
 }
 
 /// `"bunny"` is the installed Stanford bunny; any other path is relative to the scene file's folder.
