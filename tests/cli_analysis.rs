@@ -45,7 +45,16 @@ fn plot_lobe_writes_its_csv_png_and_svg() {
     let at_60 = &rows[300];
     assert_eq!(at_60[0], 60.0);
     assert!((at_60[4] - 0.5 / std::f64::consts::PI).abs() < 1e-6 && at_60[5] == 0.0, "{at_60:?}");
-    for picture in ["lobe.png", "lobe.svg"] {
+    // Every row equals the Rust mirror's f_r cos(theta_o) at wi = 30 degrees in the plane of incidence.
+    let matte = vk_render::brdf::Brdf::OrenNayar { kd: glam::Vec3::splat(0.5), sigma: 0.6 };
+    let wi = glam::Vec3::new(30f32.to_radians().sin(), 0.0, 30f32.to_radians().cos());
+    for row in &rows {
+        let theta = (row[0] as f32).to_radians();
+        let wo = glam::Vec3::new(-theta.sin(), 0.0, theta.cos());
+        let rust = f64::from(matte.eval(glam::Vec3::Z, wi, wo).x * wo.z.max(0.0));
+        assert!((row[1] - rust).abs() <= 1e-4 * rust.max(0.01), "theta_o {}: {} vs {rust}", row[0], row[1]);
+    }
+    for picture in ["lobe-picture.png", "lobe-picture.svg"] {
         let path = folder.path().join(picture);
         succeeds(&[
             "plot",
@@ -68,6 +77,8 @@ fn plot_lobe_writes_its_csv_png_and_svg() {
             let svg = std::fs::read_to_string(&path).unwrap();
             assert!(svg.starts_with("<svg") && svg.contains("matte: oren-nayar kd 0.5, sigma 0.6"), "{}", &svg[..200]);
         }
+        // Its numbers beside it, as the CSV output would hold them.
+        assert_eq!(read_csv(&path.with_extension("csv")), (header.clone(), rows.clone()), "{picture}'s CSV");
     }
 }
 
@@ -292,4 +303,40 @@ fn plot_lobe3d_renders_a_panel_per_material() {
         1,
         &["--from 95,0"],
     );
+}
+
+#[test]
+fn a_term_view_the_scene_cannot_show_is_one_line_and_no_file() {
+    let folder = temp_dir();
+    let out = folder.path().join("d.png");
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    fails(
+        folder.path(),
+        &["render", fig1.to_str().unwrap(), "--view", "d", "-o", out.to_str().unwrap()],
+        1,
+        &["fig1-lambert.toml", "image.view = \"d\": no object is Cook-Torrance"],
+    );
+    fails(
+        folder.path(),
+        &["render", fig1.to_str().unwrap(), "--view", "depth", "-o", out.to_str().unwrap()],
+        2,
+        &["'depth'"],
+    );
+    let gold = root().join("assets/scenes/fig4-gold-metalness-0.5.toml");
+    let output = vk_render(&[
+        "render",
+        gold.to_str().unwrap(),
+        "--view",
+        "d",
+        "--width",
+        "60",
+        "--height",
+        "40",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = (String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    assert!(output.status.success(), "{stderr}");
+    assert!(stdout.starts_with("view d: PNG level = 255 x value / "), "the scale is stated: {stdout}");
+    assert!(stderr.contains("object.1 (lambert) not Cook-Torrance: black in this view"), "{stderr}");
 }

@@ -8,7 +8,6 @@ use vk_render::analysis::albedo::ALBEDO_TOLERANCE;
 use vk_render::analysis::describe;
 use vk_render::analysis::furnace::{furnace, FurnaceRow};
 use vk_render::chart::{write_chart, TableChart};
-use vk_render::output::write_file;
 use vk_render::{Renderer, RendererOptions};
 
 #[derive(Args)]
@@ -34,31 +33,26 @@ pub fn run(args: FurnaceArgs, options: RendererOptions) -> anyhow::Result<()> {
     for row in &cells {
         println!("{:<10} {:<70} {:>10} {:>11} {:>7}  {}", row[0], row[1], row[2], row[3], row[4], row[5]);
     }
-    match file {
-        StudyFile::Csv => {
-            let mut csv = HEADER.join(",") + "\n";
-            for (row, cells) in rows.iter().zip(&cells) {
-                csv.push_str(&format!(
-                    "{},\"{}\",{},{},{},\"{}\"\n",
-                    row.material, cells[1], row.max_albedo, row.error_bound, row.theta_o, cells[5]
-                ));
-            }
-            write_file(&args.study.output, csv.as_bytes())?;
-        }
-        StudyFile::Chart(_) => {
-            let chart = TableChart {
-                title: format!("White furnace: {}", args.study.scene.display()),
-                header: HEADER.iter().map(|h| h.to_string()).collect(),
-                rows: rows.iter().zip(cells).map(|(row, cells)| (cells.to_vec(), colour(row))).collect(),
-                note: format!(
-                    "largest directional albedo over θo = 0..89.9°, any channel; each within its error bound \
-                     (asked {ALBEDO_TOLERANCE:.0e}); white rows: each lobe alone at full strength"
-                ),
-            };
-            write_chart(&chart, &args.study.output)?;
-        }
+    let mut csv = HEADER.join(",") + "\n";
+    for (row, cells) in rows.iter().zip(&cells) {
+        csv.push_str(&format!(
+            "{},\"{}\",{},{},{},\"{}\"\n",
+            row.material, cells[1], row.max_albedo, row.error_bound, row.theta_o, cells[5]
+        ));
     }
-    Ok(())
+    let chart = TableChart {
+        title: format!("White furnace: {}", args.study.scene.display()),
+        header: HEADER.iter().map(|h| h.to_string()).collect(),
+        rows: rows.iter().zip(cells).map(|(row, cells)| (cells.to_vec(), colour(row))).collect(),
+        note: format!(
+            "largest directional albedo over θo = 0..89.9°, any channel; each within its error bound \
+             (asked {ALBEDO_TOLERANCE:.0e}); white rows: each lobe alone at full strength"
+        ),
+    };
+    match file {
+        StudyFile::Csv => args.study.write(&csv, |_| Ok(())),
+        StudyFile::Chart(_) => args.study.write(&csv, |path| write_chart(&chart, path)),
+    }
 }
 
 fn cells(row: &FurnaceRow) -> [String; 6] {

@@ -20,7 +20,7 @@ use clap::Args;
 
 use vk_render::analysis::{select_materials, NamedBrdf};
 use vk_render::chart::ChartFile;
-use vk_render::output::TermScale;
+use vk_render::output::{write_file, TermScale};
 use vk_render::scene::View;
 use vk_render::{Override, Renderer, Scene};
 
@@ -118,6 +118,22 @@ impl StudyArgs {
     pub fn materials(&self) -> anyhow::Result<Vec<NamedBrdf>> {
         let scene = Scene::load(&self.scene, &self.set.overrides)?;
         Ok(select_materials(&scene, self.material.as_deref())?)
+    }
+
+    /// Writes the study: the CSV alone when `-o` names one; else the picture `draw` writes at `-o`, with its
+    /// numbers beside it as the same name's `.csv` (for people who plot themselves). Both or neither: when
+    /// the picture fails, the CSV written first is removed.
+    pub fn write(&self, csv: &str, draw: impl FnOnce(&Path) -> vk_render::Result<()>) -> anyhow::Result<()> {
+        if self.output_file()? == StudyFile::Csv {
+            return Ok(write_file(&self.output, csv.as_bytes())?);
+        }
+        let beside = self.output.with_extension("csv");
+        write_file(&beside, csv.as_bytes())?;
+        if let Err(e) = draw(&self.output) {
+            let _ = std::fs::remove_file(&beside);
+            return Err(e.into());
+        }
+        Ok(())
     }
 
     /// What `-o` names: a picture or a table.

@@ -8,12 +8,12 @@ use super::{progress, StudyArgs, StudyFile};
 use vk_render::analysis::albedo::{albedo_angles, directional_albedos, ALBEDO_TOLERANCE};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::lobe3d::{lobe_scene, Viewpoint};
-use vk_render::analysis::slice::slices;
-use vk_render::analysis::{angle_table, describe, rgb, Channel};
+use vk_render::analysis::slice::{slices, Slice};
+use vk_render::analysis::{angle_table, describe, rgb, Channel, NamedBrdf};
 use vk_render::chart::{
     value_range, write_chart, ChartFile, HeatMap, HeatMapChart, LineChart, LobeChart, Series, PALETTE,
 };
-use vk_render::output::{write_file, write_png};
+use vk_render::output::write_png;
 use vk_render::report::side_by_side;
 use vk_render::{Renderer, RendererOptions};
 
@@ -158,21 +158,24 @@ fn lobe(args: LobeArgs, options: RendererOptions) -> anyhow::Result<()> {
     let angles = lobe_angles();
     let cut = |theta_i| LobeCut { theta_i, phi: args.phi, cosine: !args.no_cosine };
     let quantity = if args.no_cosine { "f_r" } else { "f_r cos θo" };
+    let values = args
+        .theta_i
+        .iter()
+        .map(|&theta_i| lobes(&mut renderer, &brdfs, &cut(theta_i)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let columns: Vec<_> = materials
+        .iter()
+        .zip(&values[0])
+        .map(|(m, lobe)| (m.name.clone(), lobe.iter().copied().map(rgb).collect()))
+        .collect();
+    let csv = angle_table("theta_o", &angles, &columns);
     if file == StudyFile::Csv {
-        let values = lobes(&mut renderer, &brdfs, &cut(args.theta_i[0]))?;
-        let series: Vec<_> = materials
-            .iter()
-            .zip(values)
-            .map(|(m, lobe)| (m.name.clone(), lobe.into_iter().map(rgb).collect()))
-            .collect();
-        write_file(&args.study.output, angle_table("theta_o", &angles, &series).as_bytes())?;
-        return Ok(());
+        return args.study.write(&csv, |_| Ok(()));
     }
     let channel = Channel::from(args.channel);
     let mut series = Vec::new();
     let mut incident = Vec::new();
-    for (k, &theta_i) in args.theta_i.iter().enumerate() {
-        let values = lobes(&mut renderer, &brdfs, &cut(theta_i))?;
+    for (k, (&theta_i, values)) in args.theta_i.iter().zip(values).enumerate() {
         for (m, (material, lobe)) in materials.iter().zip(values).enumerate() {
             let colour = PALETTE[(k * materials.len() + m) % PALETTE.len()];
             if m == 0 {
@@ -195,8 +198,7 @@ fn lobe(args: LobeArgs, options: RendererOptions) -> anyhow::Result<()> {
         series,
         incident,
     };
-    write_chart(&chart, &args.study.output)?;
-    Ok(())
+    args.study.write(&csv, |path| write_chart(&chart, path))
 }
 
 fn albedo(args: AlbedoArgs, options: RendererOptions) -> anyhow::Result<()> {
@@ -221,10 +223,10 @@ fn albedo(args: AlbedoArgs, options: RendererOptions) -> anyhow::Result<()> {
         materials.len(),
         angles.len()
     );
+    let columns: Vec<_> = materials.iter().map(|m| m.name.clone()).zip(curves.iter().cloned()).collect();
+    let csv = angle_table("theta_o", &angles, &columns);
     if file == StudyFile::Csv {
-        let series: Vec<_> = materials.iter().map(|m| m.name.clone()).zip(curves).collect();
-        write_file(&args.study.output, angle_table("theta_o", &angles, &series).as_bytes())?;
-        return Ok(());
+        return args.study.write(&csv, |_| Ok(()));
     }
     let channel = Channel::from(args.channel);
     let series: Vec<Series> = materials
@@ -249,8 +251,7 @@ fn albedo(args: AlbedoArgs, options: RendererOptions) -> anyhow::Result<()> {
         horizontal_rules: vec![1.0],
         size: (1100, 620),
     };
-    write_chart(&chart, &args.study.output)?;
-    Ok(())
+    args.study.write(&csv, |path| write_chart(&chart, path))
 }
 
 fn slice(args: SliceArgs, options: RendererOptions) -> anyhow::Result<()> {
@@ -260,28 +261,14 @@ fn slice(args: SliceArgs, options: RendererOptions) -> anyhow::Result<()> {
         anyhow::bail!("--phi-d {}: not a number of degrees", args.phi_d);
     }
     // A cell per pixel of a PNG panel; a cell per degree in a CSV, and in an SVG (a rectangle each).
-    let cells = if file == StudyFile::Chart(ChartFile::Png) { 360 } else { 90 };
     let mut renderer = Renderer::new(options)?;
     let brdfs: Vec<_> = materials.iter().map(|m| m.brdf).collect();
-    let slices = slices(&mut renderer, &brdfs, args.phi_d, cells)?;
+    let csv = slice_table(&materials, &slices(&mut renderer, &brdfs, args.phi_d, CSV_CELLS)?);
     if file == StudyFile::Csv {
-        let mut csv = String::from("theta_h,theta_d");
-        for material in &materials {
-            let name = &material.name;
-            csv.push_str(&format!(",{name}_r,{name}_g,{name}_b"));
-        }
-        csv.push('\n');
-        for k in 0..cells * cells {
-            csv.push_str(&format!("{},{}", slices[0].angle(k % cells), slices[0].angle(k / cells)));
-            for slice in &slices {
-                let [r, g, b] = slice.values[k].map_or([0.0; 3], rgb);
-                csv.push_str(&format!(",{r},{g},{b}"));
-            }
-            csv.push('\n');
-        }
-        write_file(&args.study.output, csv.as_bytes())?;
-        return Ok(());
+        return args.study.write(&csv, |_| Ok(()));
     }
+    let cells = if file == StudyFile::Chart(ChartFile::Png) { 360 } else { CSV_CELLS };
+    let slices = slices(&mut renderer, &brdfs, args.phi_d, cells)?;
     let channel = Channel::from(args.channel);
     let shown = |f: Vec3| {
         let v = channel.of(rgb(f));
@@ -316,8 +303,30 @@ fn slice(args: SliceArgs, options: RendererOptions) -> anyhow::Result<()> {
         panels,
         range,
     };
-    write_chart(&chart, &args.study.output)?;
-    Ok(())
+    args.study.write(&csv, |path| write_chart(&chart, path))
+}
+
+/// A slice's cells in a CSV (and an SVG): one a degree.
+const CSV_CELLS: usize = 90;
+
+/// The slices as a CSV: theta_h, theta_d, then three columns per material; 0 below the horizon.
+fn slice_table(materials: &[NamedBrdf], slices: &[Slice]) -> String {
+    let mut csv = String::from("theta_h,theta_d");
+    for material in materials {
+        let name = &material.name;
+        csv.push_str(&format!(",{name}_r,{name}_g,{name}_b"));
+    }
+    csv.push('\n');
+    let cells = slices[0].cells;
+    for k in 0..cells * cells {
+        csv.push_str(&format!("{},{}", slices[0].angle(k % cells), slices[0].angle(k / cells)));
+        for slice in slices {
+            let [r, g, b] = slice.values[k].map_or([0.0; 3], rgb);
+            csv.push_str(&format!(",{r},{g},{b}"));
+        }
+        csv.push('\n');
+    }
+    csv
 }
 
 fn lobe3d(args: Lobe3dArgs, options: RendererOptions) -> anyhow::Result<()> {
