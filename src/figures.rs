@@ -29,6 +29,12 @@ impl FigureImage {
     }
 }
 
+/// The practical's image whose scene file is `name` (with or without .toml), e.g. "fig2-oren-nayar-sigma-0.6".
+pub fn practical_image(name: &str) -> Option<&'static FigureImage> {
+    let file = format!("{}.toml", name.trim_end_matches(".toml"));
+    FIGURES.iter().flat_map(|figure| figure.images).find(|image| image.file == file)
+}
+
 /// A figure of the practical and the images it is made of.
 pub struct Figure {
     /// The contact sheet's file stem, e.g. "figure-2-oren-nayar".

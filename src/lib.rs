@@ -8,6 +8,7 @@
 pub mod analysis;
 pub mod brdf;
 pub mod chart;
+pub mod check;
 pub mod compare;
 pub mod error;
 pub mod figures;

@@ -50,6 +50,9 @@ enum Command {
     /// The white furnace as a table: each material's largest directional albedo, and its model's made white
     /// over a grid of its main parameter, flagged where energy is created or lost.
     Furnace(commands::furnace::FurnaceArgs),
+    /// Check your image against the exact one: the verdict, the differences, and which known mistake explains
+    /// them (exit status 0 matches, 1 differs, 2 bad input).
+    Check(commands::check::CheckArgs),
     /// Fit a model to a material: the parameters that best match its lobe in least squares over the
     /// hemisphere for a set of incidence angles, printed as `name = value` with the residual.
     Fit(commands::fit::FitArgs),
@@ -74,7 +77,7 @@ fn main() -> ExitCode {
     };
     env_logger::Builder::new().filter_level(level).format_timestamp(None).init();
     match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(status) => status,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
@@ -124,9 +127,10 @@ fn remove_partial_files_on_signals() {
     });
 }
 
-fn run(cli: Cli) -> anyhow::Result<()> {
+/// Runs the command: its exit status, or its error (exit status 1). `check` has its own statuses.
+fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     let options = RendererOptions { device: cli.device, validate: cli.validate, ..Default::default() };
-    match cli.command {
+    let done = match cli.command {
         Command::Devices => commands::devices::run(cli.validate),
         Command::Render(args) => commands::render::run(args, options),
         Command::Reference(args) => commands::reference::run(args),
@@ -136,7 +140,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Furnace(args) => commands::furnace::run(args, options),
         Command::Compare(args) => commands::compare::run(args, options),
         Command::Fit(args) => commands::fit::run(args, options),
+        Command::Check(args) => return Ok(commands::check::run(args, options)),
         #[cfg(feature = "preview")]
         Command::Preview(args) => commands::preview::run(args, options),
-    }
+    };
+    done.map(|()| ExitCode::SUCCESS)
 }

@@ -1,6 +1,7 @@
 //! The commands of `vk-render`, one module each: its arguments and what it does. `main.rs` is the table of
 //! them; what several share (the scene overrides, warnings, output paths) is here.
 
+pub mod check;
 pub mod compare;
 pub mod devices;
 pub mod figures;

@@ -6,6 +6,7 @@ use clap::Args;
 
 use super::{render_png_pixels, warn, ImageArgs};
 use vk_render::output::{write_image, write_png, OutputFormat};
+use vk_render::vulkan::ShaderSources;
 use vk_render::{Renderer, RendererOptions, Scene};
 
 #[derive(Args)]
@@ -17,17 +18,25 @@ pub struct RenderArgs {
     #[arg(short, long, value_name = "OUT")]
     output: PathBuf,
 
+    /// Compile the shaders of this folder (a modified copy of shaders/) instead of the built-in ones.
+    #[arg(long, value_name = "DIR")]
+    shaders: Option<PathBuf>,
+
     #[command(flatten)]
     image: ImageArgs,
 }
 
 /// Renders the scene and writes the image.
-pub fn run(args: RenderArgs, options: RendererOptions) -> anyhow::Result<()> {
+pub fn run(args: RenderArgs, mut options: RendererOptions) -> anyhow::Result<()> {
     let overrides = args.image.overrides();
     // Everything that can be checked without a device is checked before one is opened.
     let scene = Scene::load(&args.scene, &overrides)?;
     OutputFormat::for_path(&args.output)?;
     warn(&scene);
+    if let Some(folder) = &args.shaders {
+        options.shaders = ShaderSources::from_directory(folder)
+            .map_err(|e| anyhow::anyhow!("--shaders {}: cannot read the shaders: {e}", folder.display()))?;
+    }
     let mut renderer = Renderer::new(options)?;
     match OutputFormat::for_path(&args.output)? {
         OutputFormat::Png => write_png(&render_png_pixels(&mut renderer, &scene)?, &args.output)?,

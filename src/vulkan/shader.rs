@@ -38,6 +38,19 @@ impl ShaderSources {
         self
     }
 
+    /// `from` replaced by `to` in one file (a variant of the shaders: `vk-render check`'s mistakes).
+    ///
+    /// # Errors
+    /// A message when the file is not there or `from` is not in it exactly once.
+    pub fn with_replaced(mut self, path: &str, from: &str, to: &str) -> std::result::Result<Self, String> {
+        let text = self.files.get_mut(path).ok_or_else(|| format!("shaders/{path}: no such shader"))?;
+        if text.matches(from).count() != 1 {
+            return Err(format!("shaders/{path}: {from:?} is not in it exactly once"));
+        }
+        *text = text.replacen(from, to, 1);
+        Ok(self)
+    }
+
     /// Every file under `folder` (a shaders/ folder on disk, read for hot reloading).
     ///
     /// # Errors

@@ -1,0 +1,243 @@
+//! `vk-render check`: a student's image against the exact one: the verdict, the statistics overall and per
+//! object, the diagnosis among the catalogue's mistakes, and a report picture.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use super::{progress, SetArgs};
+use vk_render::check::catalogue::{Mistake, CATALOGUE};
+use vk_render::check::{diagnose, regions, render_candidates, Verdict, EDGE_MARGIN, MATCH_P99, MATCH_RMS};
+use vk_render::figures::{practical_image, FIGURES};
+use vk_render::output::{write_png, OutputFormat};
+use vk_render::report::{side_by_side, Difference};
+use vk_render::scene::Shape;
+use vk_render::{Override, Renderer, RendererOptions, Scene};
+
+#[derive(Args)]
+pub struct CheckArgs {
+    /// Your image: .png or .jpg (8-bit RGB, as the course's skeleton writes it).
+    #[arg(required_unless_present = "list")]
+    mine: Option<PathBuf>,
+
+    /// The scene: a scene file, or the name of one of the practical's images (see --list).
+    #[arg(long, value_name = "SCENE", required_unless_present = "list")]
+    scene: Option<String>,
+
+    /// Also write a report: your image, the exact one, the map of their differences and the diagnosed
+    /// mistake's render, each labelled (.png).
+    #[arg(short, long, value_name = "REPORT")]
+    output: Option<PathBuf>,
+
+    /// List the practical's images --scene can name, and the catalogue of mistakes.
+    #[arg(long)]
+    list: bool,
+
+    #[command(flatten)]
+    set: SetArgs,
+}
+
+/// Exit status 0 when the image matches, 1 when it differs, 2 on bad input.
+pub fn run(args: CheckArgs, options: RendererOptions) -> ExitCode {
+    match check(&args, options) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
+    if args.list {
+        println!("the practical's images (--scene NAME):");
+        for image in FIGURES.iter().flat_map(|figure| figure.images) {
+            println!("  {}", image.file.trim_end_matches(".toml"));
+        }
+        println!("the mistakes vk-render knows:");
+        for mistake in CATALOGUE {
+            println!("  {}: {}", mistake.name, mistake.explanation);
+        }
+        return Ok(true);
+    }
+    let (Some(mine_path), Some(scene_name)) = (&args.mine, &args.scene) else {
+        anyhow::bail!("give your image and --scene (or --list)");
+    };
+    let mine = read_image(mine_path)?;
+    if let Some(report) = &args.output {
+        if OutputFormat::for_path(report)? != OutputFormat::Png {
+            anyhow::bail!("{}: the report is a .png image", report.display());
+        }
+    }
+    // The exact image is rendered at your image's size.
+    let mut overrides: Vec<Override> = vec![
+        Override::new("image.width", i64::from(mine.width())),
+        Override::new("image.height", i64::from(mine.height())),
+    ];
+    overrides.extend(args.set.overrides.iter().cloned());
+    let scene = load_scene(scene_name, &overrides)?;
+    let mistakes: Vec<&'static Mistake> = CATALOGUE.iter().collect();
+    let mut renderer = Renderer::new(options)?;
+    let bar = progress(mistakes.len(), "rendering the mistakes");
+    let candidates = render_candidates(&mut renderer, &scene, &mistakes, |done, _| bar.set_position(done as u64))?;
+    bar.finish_and_clear();
+    let diagnosis = diagnose(&mine, &candidates);
+    let exact = &candidates[0].image;
+    let stats = &diagnosis.against_exact;
+    println!(
+        "{} against {} at {} x {}: {}",
+        mine_path.display(),
+        scene_name,
+        mine.width(),
+        mine.height(),
+        if stats.matches() && diagnosis.verdict == Verdict::Matches { "matches" } else { "differs" }
+    );
+    println!(
+        "tolerance (JPEG-fair): both images blurred over 3 x 3 pixels, {EDGE_MARGIN} pixels around hard edges left out; \
+         a match is a root mean square within {MATCH_RMS} levels and a 99th percentile within {MATCH_P99}"
+    );
+    println!(
+        "differences: root mean square {:.2} levels, mean {:.2}, p99 {:.1}, {:.2}% of the pixels over {MATCH_P99} levels",
+        stats.rms,
+        stats.mean,
+        stats.p99,
+        100.0 * stats.over
+    );
+    let traced = vk_render::reference::render(&scene)?;
+    let per_region = regions(&mine, exact, &traced.object_ids);
+    for region in &per_region {
+        let s = &region.stats;
+        println!(
+            "  {} {}: root mean square {:.2}, p99 {:.1}, {:.2}% over",
+            object_name(&scene, region.object),
+            region.part,
+            s.rms,
+            s.p99,
+            100.0 * s.over
+        );
+    }
+    let named = |name: &str| CATALOGUE.iter().find(|m| m.name == name);
+    let diagnosed = match &diagnosis.verdict {
+        Verdict::Matches => {
+            println!("diagnosis: none needed, your image is the exact one within the tolerance");
+            None
+        }
+        Verdict::Mistake(name) => {
+            let mistake = named(name);
+            if let Some(m) = mistake {
+                println!(
+                    "diagnosis: {}: {} It should be {}; your image suggests {}.",
+                    m.name, m.explanation, m.should_be, m.looks_like
+                );
+            }
+            mistake
+        }
+        Verdict::Tie(names) => {
+            println!("diagnosis: these mistakes explain your image equally well on this scene:");
+            for m in names.iter().filter_map(|n| named(n)) {
+                println!(
+                    "  {}: {} It should be {}; your image suggests {}.",
+                    m.name, m.explanation, m.should_be, m.looks_like
+                );
+            }
+            let scenes: Vec<String> = names.iter().filter_map(|n| named(n)).map(scene_to_tell).collect();
+            println!("  render these scenes of the practical to tell them apart: {}", scenes.join("; "));
+            names.first().and_then(|n| named(n))
+        }
+        Verdict::Unexplained => {
+            println!("diagnosis: no known mistake explains your image; the differences lie in:");
+            let mut worst: Vec<_> = per_region.iter().filter(|r| r.stats.over > 0.01).collect();
+            worst.sort_by(|a, b| b.stats.over.total_cmp(&a.stats.over));
+            for region in worst.iter().take(3) {
+                println!(
+                    "  {} {} ({:.1}% of its pixels)",
+                    object_name(&scene, region.object),
+                    region.part,
+                    100.0 * region.stats.over
+                );
+            }
+            None
+        }
+    };
+    if let Some(report) = &args.output {
+        let difference = Difference::of(&mine, exact);
+        let mut panels = vec![
+            ("yours".to_string(), mine.clone()),
+            ("exact".to_string(), exact.clone()),
+            (format!("|yours - exact|, 0 to {} levels", difference.scale()), difference.heat_map()),
+        ];
+        if let Some(m) = diagnosed {
+            if let Some(candidate) = candidates.iter().find(|c| c.mistake.is_some_and(|c| c.name == m.name)) {
+                panels.push((format!("with {}", m.name), candidate.image.clone()));
+            }
+        }
+        let name =
+            mine_path.file_name().map_or_else(|| mine_path.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let title = format!("{name} against {scene_name}: {}", verdict_line(&diagnosis.verdict));
+        write_png(&side_by_side(&title, &panels, Some(difference.scale())), report)?;
+    }
+    Ok(diagnosis.verdict == Verdict::Matches)
+}
+
+fn verdict_line(verdict: &Verdict) -> String {
+    match verdict {
+        Verdict::Matches => "matches".into(),
+        Verdict::Mistake(name) => format!("differs: {name}"),
+        Verdict::Tie(names) => format!("differs: one of {}", names.join(", ")),
+        Verdict::Unexplained => "differs: no known mistake explains it".into(),
+    }
+}
+
+/// The scene (and overrides) where a mistake shows, as a command line's words.
+fn scene_to_tell(mistake: &Mistake) -> String {
+    let (name, overrides) = mistake.shows_on;
+    let sets: Vec<String> = overrides.iter().map(|o| format!("--set '{o}'")).collect();
+    format!("{} {name} {}", mistake.name, sets.join(" ")).trim_end().to_string()
+}
+
+fn object_name(scene: &Scene, object: Option<usize>) -> String {
+    match object.and_then(|i| scene.objects.get(i).map(|o| (i, o))) {
+        None => "background".into(),
+        Some((i, o)) => {
+            let shape = match o.shape {
+                Shape::Sphere { .. } => "sphere",
+                Shape::Plane { .. } => "plane",
+                Shape::Mesh { .. } | Shape::Triangles(_) => "mesh",
+            };
+            format!("{shape} (object {i}, material {})", o.material)
+        }
+    }
+}
+
+/// A practical's image by name, else a scene file.
+fn load_scene(name: &str, overrides: &[Override]) -> anyhow::Result<Scene> {
+    if let Some(image) = practical_image(name) {
+        return Ok(image.scene(overrides)?);
+    }
+    let path = std::path::Path::new(name);
+    if path.extension().is_none_or(|e| e != "toml") {
+        anyhow::bail!(
+            "--scene {name}: neither a scene file (.toml) nor one of the practical's images (vk-render check --list)"
+        );
+    }
+    Ok(Scene::load(path, overrides)?)
+}
+
+/// Your image: PNG or JPEG, 8-bit RGB (alpha, if any, left out); grey-scale and 16-bit images are refused.
+fn read_image(path: &std::path::Path) -> anyhow::Result<image::RgbImage> {
+    let bytes = vk_render::files::read_regular(path, "image", 1 << 30)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let image = image::load_from_memory(&bytes)
+        .map_err(|e| anyhow::anyhow!("{}: not a PNG or JPEG image vk-render can read: {e}", path.display()))?;
+    match image {
+        image::DynamicImage::ImageRgb8(rgb) => Ok(rgb),
+        image::DynamicImage::ImageRgba8(rgba) => Ok(image::DynamicImage::ImageRgba8(rgba).to_rgb8()),
+        other => anyhow::bail!(
+            "{}: a {:?} image; vk-render compares 8-bit RGB images, as the course's skeleton writes them",
+            path.display(),
+            other.color()
+        ),
+    }
+}
