@@ -188,3 +188,32 @@ fn check_exits_0_1_or_2_and_writes_its_report() {
         "{stdout}"
     );
 }
+
+#[test]
+fn a_tie_names_every_mistake_and_a_scene_that_tells_them_apart() {
+    use vk_render::check::scene_that_tells_apart;
+    let named = |name: &str| CATALOGUE.iter().find(|m| m.name == name).unwrap();
+    let (without_pi, no_falloff) = (named("lambert-without-pi"), named("no-distance-falloff"));
+    // Two mistakes that render alike (here made so: one image for both) tie, and are named together.
+    let fig1 = scene("fig1-lambert", &[]);
+    let exact = common::renderer().render_rgb8(&fig1).unwrap();
+    let mistaken = render_candidates(&mut common::renderer(), &fig1, &[without_pi], |_, _| {}).unwrap().remove(1).image;
+    let candidates = [
+        Candidate { mistake: None, image: exact },
+        Candidate { mistake: Some(without_pi), image: mistaken.clone() },
+        Candidate { mistake: Some(no_falloff), image: mistaken.clone() },
+    ];
+    let diagnosis = diagnose(&as_jpeg(&mistaken, 90), &candidates);
+    match &diagnosis.verdict {
+        Verdict::Tie(names) => {
+            assert!(names.len() == 2 && names.contains(&without_pi.name) && names.contains(&no_falloff.name))
+        }
+        other => panic!("{other:?}: {:?}", diagnosis.ranking),
+    }
+    // Figure 1 itself tells them apart: pi against 60 / d^2 times brighter.
+    let (scene, distance) = scene_that_tells_apart(&mut common::renderer(), &[without_pi, no_falloff], (300, 210))
+        .unwrap()
+        .expect("a scene");
+    assert_eq!(scene.0, "fig1-lambert");
+    assert!(distance > 20.0, "{distance}");
+}

@@ -312,3 +312,47 @@ pub fn regions(mine: &RgbImage, exact: &RgbImage, object_ids: &[Option<usize>]) 
     }
     regions
 }
+
+/// The scene of the practical that tells `mistakes` apart best, among those where each shows (the
+/// catalogue's), at `size`: where the two closest of their renders are farthest apart, and how far (the
+/// distance of [`Stats::distance`], in levels). None when no scene separates every pair by more than twice
+/// the match tolerance.
+///
+/// # Errors
+/// What rendering returns.
+pub fn scene_that_tells_apart(
+    renderer: &mut Renderer,
+    mistakes: &[&'static Mistake],
+    (width, height): (u32, u32),
+) -> Result<Option<((&'static str, &'static [&'static str]), f64)>> {
+    let mut best: Option<((&'static str, &'static [&'static str]), f64)> = None;
+    let mut tried: Vec<(&str, &[&str])> = Vec::new();
+    for mistake in mistakes {
+        let (name, overrides) = mistake.shows_on;
+        if tried.contains(&(name, overrides)) {
+            continue;
+        }
+        tried.push((name, overrides));
+        let Some(image) = crate::figures::practical_image(name) else { continue };
+        let mut all: Vec<crate::Override> = vec![
+            crate::Override::new("image.width", i64::from(width)),
+            crate::Override::new("image.height", i64::from(height)),
+        ];
+        for text in overrides {
+            all.push(text.parse().map_err(|message: String| Error::Scene { file: name.into(), message })?);
+        }
+        let scene = image.scene(&all)?;
+        let candidates = render_candidates(renderer, &scene, mistakes, |_, _| {})?;
+        let judged = judged_pixels(&candidates[0].image);
+        let mut closest = f64::INFINITY;
+        for (i, a) in candidates[1..].iter().enumerate() {
+            for b in &candidates[i + 2..] {
+                closest = closest.min(Stats::of(differences(&a.image, &b.image, &judged).iter()).distance());
+            }
+        }
+        if closest > 2.0 * MATCH_RMS && best.is_none_or(|(_, d)| closest > d) {
+            best = Some(((name, overrides), closest));
+        }
+    }
+    Ok(best)
+}

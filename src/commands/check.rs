@@ -8,7 +8,9 @@ use clap::Args;
 
 use super::{progress, SetArgs};
 use vk_render::check::catalogue::{Mistake, CATALOGUE};
-use vk_render::check::{diagnose, regions, render_candidates, Verdict, EDGE_MARGIN, MATCH_P99, MATCH_RMS};
+use vk_render::check::{
+    diagnose, regions, render_candidates, scene_that_tells_apart, Verdict, EDGE_MARGIN, MATCH_P99, MATCH_RMS,
+};
 use vk_render::figures::{practical_image, FIGURES};
 use vk_render::output::{write_png, OutputFormat};
 use vk_render::report::{side_by_side, Difference};
@@ -142,9 +144,16 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
                     m.name, m.explanation, m.should_be, m.looks_like
                 );
             }
-            let scenes: Vec<String> = names.iter().filter_map(|n| named(n)).map(scene_to_tell).collect();
-            println!("  render these scenes of the practical to tell them apart: {}", scenes.join("; "));
-            names.first().and_then(|n| named(n))
+            let tied: Vec<&'static Mistake> = names.iter().filter_map(|n| named(n)).collect();
+            match scene_that_tells_apart(&mut renderer, &tied, (mine.width(), mine.height()))? {
+                Some((shows_on, distance)) => println!(
+                    "  the practical's scene that tells them apart: {} (their renders differ by {distance:.1} levels or more \
+                     there): render yours of it and check it",
+                    scene_words(shows_on)
+                ),
+                None => println!("  no scene of the practical tells them apart"),
+            }
+            tied.first().copied()
         }
         Verdict::Unexplained => {
             println!("diagnosis: no known mistake explains your image; the differences lie in:");
@@ -190,11 +199,10 @@ fn verdict_line(verdict: &Verdict) -> String {
     }
 }
 
-/// The scene (and overrides) where a mistake shows, as a command line's words.
-fn scene_to_tell(mistake: &Mistake) -> String {
-    let (name, overrides) = mistake.shows_on;
+/// A scene of the practical and its overrides as a command line's words: `NAME --set 'KEY=VALUE' ...`.
+fn scene_words((name, overrides): (&str, &[&str])) -> String {
     let sets: Vec<String> = overrides.iter().map(|o| format!("--set '{o}'")).collect();
-    format!("{} {name} {}", mistake.name, sets.join(" ")).trim_end().to_string()
+    format!("{name} {}", sets.join(" ")).trim_end().to_string()
 }
 
 fn object_name(scene: &Scene, object: Option<usize>) -> String {
