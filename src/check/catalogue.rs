@@ -18,10 +18,13 @@ pub struct Mistake {
     /// The formula as it should be, and as the image suggests it is.
     pub should_be: &'static str,
     pub looks_like: &'static str,
-    /// A scene of the practical (assets/scenes/NAME.toml) where it shows, and overrides that bring it out.
-    pub shows_on: (&'static str, &'static [&'static str]),
+    /// A scene of the practical where it shows.
+    pub shows_on: ShowsOn,
     pub variant: Variant,
 }
+
+/// A scene of the practical (assets/scenes/NAME.toml, by NAME) and overrides that bring a mistake out.
+pub type ShowsOn = (&'static str, &'static [&'static str]);
 
 /// How a mistake is made.
 #[derive(Clone, Copy, Debug)]

@@ -11,7 +11,7 @@ use crate::output::tonemap;
 use crate::render::Renderer;
 use crate::scene::Scene;
 use crate::vulkan::ShaderSources;
-use catalogue::{Mistake, Variant};
+use catalogue::{Mistake, ShowsOn, Variant};
 
 /// How an image is judged: both images blurred over 3 x 3 pixels (JPEG's block noise averages out), the
 /// pixels within [`EDGE_MARGIN`] of a hard edge of the exact image left out (JPEG rings there: silhouettes,
@@ -324,8 +324,8 @@ pub fn scene_that_tells_apart(
     renderer: &mut Renderer,
     mistakes: &[&'static Mistake],
     (width, height): (u32, u32),
-) -> Result<Option<((&'static str, &'static [&'static str]), f64)>> {
-    let mut best: Option<((&'static str, &'static [&'static str]), f64)> = None;
+) -> Result<Option<(ShowsOn, f64)>> {
+    let mut best: Option<(ShowsOn, f64)> = None;
     let mut tried: Vec<(&str, &[&str])> = Vec::new();
     for mistake in mistakes {
         let (name, overrides) = mistake.shows_on;
