@@ -192,11 +192,7 @@ fn the_white_furnace_flags_what_the_models_do() {
 #[test]
 fn a_lambert_without_its_pi_fails_the_albedo() {
     // The albedo must see a real mistake in the GLSL it integrates: Lambert without 1/pi.
-    let broken =
-        std::fs::read_to_string(common::root().join("shaders/brdf/lambert.glsl")).unwrap().replace("kd * INV_PI", "kd");
-    let shaders = vk_render::vulkan::ShaderSources::default().with_file("brdf/lambert.glsl", broken);
-    let mut renderer =
-        vk_render::Renderer::new(vk_render::RendererOptions { validate: true, shaders, ..Default::default() }).unwrap();
+    let mut renderer = common::mutant_renderer("brdf/lambert.glsl", "kd * INV_PI", "kd");
     let kd = Vec3::splat(0.5);
     let albedo = directional_albedos(&mut renderer, &Brdf::Lambert { kd }, &[0.0], ALBEDO_TOLERANCE).unwrap()[0];
     assert!((albedo.rho[0] - 0.5 * PI).abs() < 1e-5, "the broken Lambert integrates to {:?}, not pi kd", albedo.rho);

@@ -132,12 +132,7 @@ fn cook_torrance_on_the_gpu_equals_the_rust_mirror() {
 #[test]
 fn a_wrong_schlick_exponent_fails_the_probe_comparison() {
     // The comparison must catch a real mistake: (1 - h.wo)^4 instead of ^5.
-    let broken = std::fs::read_to_string(common::root().join("shaders/brdf/cook_torrance.glsl"))
-        .unwrap()
-        .replace("(m2 * m2 * m)", "(m2 * m2)");
-    let shaders = vk_render::vulkan::ShaderSources::default().with_file("brdf/cook_torrance.glsl", broken);
-    let mut renderer =
-        vk_render::Renderer::new(vk_render::RendererOptions { validate: true, shaders, ..Default::default() }).unwrap();
+    let mut renderer = common::mutant_renderer("brdf/cook_torrance.glsl", "(m2 * m2 * m)", "(m2 * m2)");
     let models = [Brdf::CookTorrance {
         kd: GOLD,
         f0: Vec3::splat(0.04),

@@ -160,7 +160,7 @@ fn check_exits_0_1_or_2_and_writes_its_report() {
     let output = check("bright.png", "fig1-lambert", "report.png");
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(1), "{stdout}");
-    assert!(stdout.contains(": differs") && stdout.contains("sphere (object 0, material grey) body"), "{stdout}");
+    assert!(stdout.contains(": differs") && stdout.contains("sphere (object 0, material grey) lit body"), "{stdout}");
     assert!(image::open(path("report.png")).unwrap().width() > 3 * 160);
     // Bad input: exit 2, one line, no report.
     image::GrayImage::new(160, 120).save(path("grey.png")).unwrap();

@@ -5,8 +5,7 @@ mod common;
 
 use common::*;
 use vk_render::compare::{compare, silhouette_band, Comparison};
-use vk_render::vulkan::ShaderSources;
-use vk_render::{reference, Renderer, RendererOptions, Scene};
+use vk_render::{reference, Scene};
 
 #[test]
 fn scenes_beyond_the_figures_match_the_reference() {
@@ -20,11 +19,7 @@ fn scenes_beyond_the_figures_match_the_reference() {
 
 /// Renders `scene` with one shader file edited (`from` replaced by `to`) and compares with the reference.
 fn compare_mutant(shader: &str, from: &str, to: &str, scene: &Scene) -> Comparison {
-    let original = std::fs::read_to_string(root().join("shaders").join(shader)).unwrap();
-    let mutant = original.replace(from, to);
-    assert_ne!(mutant, original, "{shader} no longer holds {from:?}");
-    let shaders = ShaderSources::default().with_file(shader, mutant);
-    let mut renderer = Renderer::new(RendererOptions { validate: true, shaders, ..Default::default() }).unwrap();
+    let mut renderer = mutant_renderer(shader, from, to);
     let gpu = renderer.render(scene).unwrap().to_rgb8(&scene.image);
     let traced = reference::render(scene).unwrap();
     let band = silhouette_band(&traced.object_ids, scene.image.width, scene.image.height, 2);

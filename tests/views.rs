@@ -143,12 +143,11 @@ fn the_views_recompose_the_radiance() {
 #[test]
 fn a_g_without_its_four_fails_the_g_view() {
     // The views' test must see a real mistake in the GLSL: G = (n.wo)(n.wi) V, the 4 forgotten.
-    let broken = std::fs::read_to_string(common::root().join("shaders/brdf/cook_torrance.glsl"))
-        .unwrap()
-        .replace("return 4.0 * NoV * NoL * v_smith_schlick", "return NoV * NoL * v_smith_schlick");
-    let shaders = vk_render::vulkan::ShaderSources::default().with_file("brdf/cook_torrance.glsl", broken);
-    let mut renderer =
-        vk_render::Renderer::new(vk_render::RendererOptions { validate: true, shaders, ..Default::default() }).unwrap();
+    let mut renderer = common::mutant_renderer(
+        "brdf/cook_torrance.glsl",
+        "return 4.0 * NoV * NoL * v_smith_schlick",
+        "return NoV * NoL * v_smith_schlick",
+    );
     let scene = gold_scene(View::G);
     let Brdf::CookTorrance { roughness, .. } = gold(&scene) else { panic!("the sphere is Cook-Torrance") };
     let image = renderer.render(&scene).unwrap();

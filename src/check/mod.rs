@@ -262,8 +262,9 @@ pub fn diagnose(mine: &RgbImage, candidates: &[Candidate]) -> Diagnosis {
 }
 
 /// Where differences lie: for each object (and the background), in its grazing band (within
-/// [`GRAZING_BAND`] pixels of its silhouette), its highlight (its brightest 5% in the exact image) and its
-/// body, the share of the judged pixels over the tolerance.
+/// [`GRAZING_BAND`] pixels of its silhouette), its highlight (its brightest 5% in the exact image), its unlit
+/// part (black in the exact image: shadowed or facing away from every light) and the rest, its lit body:
+/// the statistics of the judged pixels of each.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Region {
     /// The object's index in the scene, None for the background.
@@ -271,6 +272,9 @@ pub struct Region {
     pub part: &'static str,
     pub stats: Stats,
 }
+
+/// An object's pixels darker than this (in levels of luminance) in the exact image are its unlit part.
+const UNLIT_LEVEL: f32 = 2.0;
 
 /// Pixels this close to a change of object id are an object's grazing band.
 pub const GRAZING_BAND: u32 = 6;
@@ -295,15 +299,20 @@ pub fn regions(mine: &RgbImage, exact: &RgbImage, object_ids: &[Option<usize>]) 
         brightness.sort_by(f32::total_cmp);
         let highlight = brightness.get(brightness.len() * 95 / 100).copied().unwrap_or(f32::INFINITY).max(1.0);
         let part_of = |i: usize| {
+            let here = luminance(exact.get_pixel(i as u32 % w, i as u32 / w));
             if band[i] {
                 "grazing band"
-            } else if id.is_some() && luminance(exact.get_pixel(i as u32 % w, i as u32 / w)) >= highlight {
+            } else if id.is_none() {
+                "open part"
+            } else if here >= highlight {
                 "highlight"
+            } else if here < UNLIT_LEVEL {
+                "unlit part"
             } else {
-                "body"
+                "lit body"
             }
         };
-        for part in ["body", "highlight", "grazing band"] {
+        for part in ["open part", "lit body", "unlit part", "highlight", "grazing band"] {
             let stats = Stats::of(pixels.iter().filter(|&&i| part_of(i) == part).map(|&i| &diffs[i]));
             if stats.judged > 0 {
                 regions.push(Region { object: id, part, stats });

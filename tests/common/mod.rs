@@ -113,3 +113,10 @@ pub fn vk_render(args: &[&str]) -> Output {
     }
     child.wait_with_output().expect("vk-render's output")
 }
+
+/// A validating renderer whose shaders have one edit: `from` (found exactly once) replaced by `to` in
+/// `file` under shaders/, the way tests break a shader on purpose.
+pub fn mutant_renderer(file: &str, from: &str, to: &str) -> Renderer {
+    let shaders = vk_render::vulkan::ShaderSources::default().with_replaced(file, from, to).expect("the edit fits");
+    Renderer::new(RendererOptions { validate: true, shaders, ..Default::default() }).expect("a renderer")
+}
