@@ -6,6 +6,7 @@ pub mod catalogue;
 
 use image::RgbImage;
 
+use crate::analysis::Channel;
 use crate::error::{Error, Result};
 use crate::output::tonemap;
 use crate::render::Renderer;
@@ -47,20 +48,14 @@ pub fn render_candidates(
     mistakes: &[&'static Mistake],
     mut progress: impl FnMut(usize, usize),
 ) -> Result<Vec<Candidate>> {
-    let mut candidates = vec![Candidate { mistake: None, image: renderer.render_rgb8(scene)? }];
-    for (done, &mistake) in mistakes.iter().enumerate() {
-        progress(done, mistakes.len());
-        let image = match mistake.variant {
-            Variant::Shader(edits) => {
-                let sources = edits
-                    .iter()
-                    .try_fold(ShaderSources::default(), |sources, e| sources.with_replaced(e.file, e.from, e.to))
-                    .map_err(|log| Error::Shader { path: mistake.name.to_string(), log })?;
-                renderer.set_shaders(sources)?;
-                let image = renderer.render_rgb8(scene);
-                renderer.set_shaders(ShaderSources::default())?;
-                image?
-            }
+    let exact = renderer.render_rgb8(scene)?;
+    let mut images: Vec<Option<RgbImage>> = vec![None; mistakes.len()];
+    let mut done = 0;
+    // The mistakes of the scene and of the output first, on the embedded shaders; then those of the shaders,
+    // each on its variant, the embedded shaders put back once at the end (a failed render too).
+    for (image, mistake) in images.iter_mut().zip(mistakes) {
+        let made = match mistake.variant {
+            Variant::Shader(_) => continue,
             Variant::Scene(change) => {
                 let mut changed = scene.clone();
                 change(&mut changed);
@@ -68,9 +63,36 @@ pub fn render_candidates(
             }
             Variant::Rounding => rounded(&renderer.render(scene)?, scene),
         };
-        candidates.push(Candidate { mistake: Some(mistake), image });
+        *image = Some(made);
+        done += 1;
+        progress(done, mistakes.len());
     }
-    progress(mistakes.len(), mistakes.len());
+    let mut shader_variants = || -> Result<()> {
+        for (image, mistake) in images.iter_mut().zip(mistakes) {
+            let Variant::Shader(edits) = mistake.variant else { continue };
+            let sources = edits
+                .iter()
+                .try_fold(ShaderSources::default(), |sources, e| sources.with_replaced(e.file, e.from, e.to))
+                .map_err(|log| Error::Shader { path: mistake.name.to_string(), log })?;
+            renderer.set_shaders(sources)?;
+            *image = Some(renderer.render_rgb8(scene)?);
+            done += 1;
+            progress(done, mistakes.len());
+        }
+        Ok(())
+    };
+    let rendered = shader_variants();
+    if mistakes.iter().any(|m| matches!(m.variant, Variant::Shader(_))) {
+        renderer.set_shaders(ShaderSources::default())?;
+    }
+    rendered?;
+    let mut candidates = vec![Candidate { mistake: None, image: exact }];
+    candidates.extend(
+        mistakes
+            .iter()
+            .zip(images)
+            .filter_map(|(&mistake, image)| image.map(|image| Candidate { mistake: Some(mistake), image })),
+    );
     Ok(candidates)
 }
 
@@ -139,9 +161,13 @@ fn blurred(image: &RgbImage) -> Vec<[f32; 3]> {
 /// images, in levels, and the mean of the signed differences of the channels (`a - b`); None for pixels
 /// left out.
 pub fn differences(a: &RgbImage, b: &RgbImage, judged: &[bool]) -> Vec<Option<(f32, f32)>> {
-    let (a, b) = (blurred(a), blurred(b));
+    blurred_differences(&blurred(a), &blurred(b), judged)
+}
+
+/// [`differences`] of images already blurred (each blurred once however many it is compared with).
+fn blurred_differences(a: &[[f32; 3]], b: &[[f32; 3]], judged: &[bool]) -> Vec<Option<(f32, f32)>> {
     a.iter()
-        .zip(&b)
+        .zip(b)
         .zip(judged)
         .map(|((p, q), &j)| {
             j.then(|| {
@@ -238,11 +264,12 @@ const TIE_LEVELS: f64 = 0.25;
 /// tolerance (rounding instead of truncating is at most a level off everywhere).
 pub fn diagnose(mine: &RgbImage, candidates: &[Candidate]) -> Diagnosis {
     let judged = judged_pixels(&candidates[0].image);
-    let against_exact = Stats::of(differences(mine, &candidates[0].image, &judged).iter());
-    let mut ranking: Vec<(Option<&'static Mistake>, f64)> = candidates
-        .iter()
-        .map(|c| (c.mistake, Stats::of(differences(mine, &c.image, &judged).iter()).distance()))
-        .collect();
+    let mine = blurred(mine);
+    let stats: Vec<Stats> =
+        candidates.iter().map(|c| Stats::of(blurred_differences(&mine, &blurred(&c.image), &judged).iter())).collect();
+    let against_exact = stats[0];
+    let mut ranking: Vec<(Option<&'static Mistake>, f64)> =
+        candidates.iter().zip(&stats).map(|(c, s)| (c.mistake, s.distance())).collect();
     ranking.sort_by(|a, b| a.1.total_cmp(&b.1));
     let best = ranking[0].1;
     let explaining: Vec<&'static Mistake> = ranking
@@ -286,8 +313,7 @@ pub fn regions(mine: &RgbImage, exact: &RgbImage, object_ids: &[Option<usize>]) 
     let judged = judged_pixels(exact);
     let diffs = differences(mine, exact, &judged);
     let band = crate::compare::silhouette_band(object_ids, w, h, GRAZING_BAND);
-    let luminance =
-        |p: &image::Rgb<u8>| 0.2126 * f32::from(p.0[0]) + 0.7152 * f32::from(p.0[1]) + 0.0722 * f32::from(p.0[2]);
+    let luminance = |p: &image::Rgb<u8>| Channel::Luminance.of(p.0.map(f64::from)) as f32;
     let mut ids: Vec<Option<usize>> = object_ids.to_vec();
     ids.sort();
     ids.dedup();
@@ -353,10 +379,11 @@ pub fn scene_that_tells_apart(
         let scene = image.scene(&all)?;
         let candidates = render_candidates(renderer, &scene, mistakes, |_, _| {})?;
         let judged = judged_pixels(&candidates[0].image);
+        let renders: Vec<Vec<[f32; 3]>> = candidates[1..].iter().map(|c| blurred(&c.image)).collect();
         let mut closest = f64::INFINITY;
-        for (i, a) in candidates[1..].iter().enumerate() {
-            for b in &candidates[i + 2..] {
-                closest = closest.min(Stats::of(differences(&a.image, &b.image, &judged).iter()).distance());
+        for (i, a) in renders.iter().enumerate() {
+            for b in &renders[i + 1..] {
+                closest = closest.min(Stats::of(blurred_differences(a, b, &judged).iter()).distance());
             }
         }
         if closest > 2.0 * MATCH_RMS && best.is_none_or(|(_, d)| closest > d) {
