@@ -11,6 +11,7 @@ use std::f64::consts::PI;
 
 use glam::Vec3;
 
+use super::Channel;
 use crate::brdf::{Brdf, DiffuseModel};
 use crate::error::Result;
 use crate::render::{ProbeCase, Renderer};
@@ -134,7 +135,7 @@ impl Family {
 }
 
 /// How many models a fit tries ([`fit`]'s progress counts them): the scan's, the search's and the last.
-pub const FIT_STEPS: usize = SCAN + 1 + 2 * GOLDEN_STEPS + 1;
+pub const FIT_STEPS: usize = SCAN + 1 + 2 + GOLDEN_STEPS + 1;
 const SCAN: usize = 24;
 const GOLDEN_STEPS: usize = 40;
 
@@ -182,13 +183,20 @@ pub fn fit(
             let step = (b - a) / scan as f64;
             let (mut lo, mut hi) =
                 ((a + step * (best.1 as f64 - 1.0)).max(a), (a + step * (best.1 as f64 + 1.0)).min(b));
+            // Each step keeps one of its two inner points (the golden ratio puts it where the next step's
+            // point falls), so it tries one new model.
             let golden = 0.5 * (5f64.sqrt() - 1.0);
+            let (mut x1, mut x2) = (hi - golden * (hi - lo), lo + golden * (hi - lo));
+            let (mut f1, mut f2) = (solve(from(x1))?.0, solve(from(x2))?.0);
             for _ in 0..GOLDEN_STEPS {
-                let (x1, x2) = (hi - golden * (hi - lo), lo + golden * (hi - lo));
-                if solve(from(x1))?.0 <= solve(from(x2))?.0 {
-                    hi = x2;
+                if f1 <= f2 {
+                    (hi, x2, f2) = (x2, x1, f1);
+                    x1 = hi - golden * (hi - lo);
+                    f1 = solve(from(x1))?.0;
                 } else {
-                    lo = x1;
+                    (lo, x1, f1) = (x1, x2, f2);
+                    x2 = lo + golden * (hi - lo);
+                    f2 = solve(from(x2))?.0;
                 }
             }
             solve(from(0.5 * (lo + hi)))?
@@ -264,7 +272,7 @@ fn least_squares(basis: &[Vec<[f64; 3]>], wanted: &[[f64; 3]], weights: &[f64]) 
 
 /// The weighted root mean square of the luminance of (a - b).
 fn rms_difference(a: &[[f64; 3]], b: &[[f64; 3]], weights: &[f64]) -> f64 {
-    let luminance = |v: [f64; 3]| 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2];
+    let luminance = |v: [f64; 3]| Channel::Luminance.of(v);
     let total: f64 = weights.iter().sum();
     let sum: f64 = a.iter().zip(b).zip(weights).map(|((x, y), w)| w * (luminance(*x) - luminance(*y)).powi(2)).sum();
     (sum / total).sqrt()
