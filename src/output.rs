@@ -21,10 +21,15 @@ impl HdrImage {
         self.pixels[(y * self.width + x) as usize]
     }
 
+    /// The scale a term view of this image is written with (None for a radiance).
+    pub fn term_scale(&self, view: View) -> Option<TermScale> {
+        TermScale::of(view, self.pixels.iter().flat_map(|c| c.to_array()))
+    }
+
     /// The image after the whole output transform, as 8-bit RGB; a term view by its [`TermScale`].
     pub fn to_rgb8(&self, settings: &ImageSettings) -> image::RgbImage {
         let channels = self.pixels.iter().flat_map(|c| c.to_array());
-        let bytes = match TermScale::of(settings.view, channels.clone()) {
+        let bytes = match self.term_scale(settings.view) {
             None => {
                 channels.map(|c| encode(tonemap(c * settings.exposure, settings.tonemap), settings.encoding)).collect()
             }

@@ -14,7 +14,6 @@ use vk_render::check::{
 use vk_render::figures::{practical_image, FIGURES};
 use vk_render::output::{write_png, OutputFormat};
 use vk_render::report::{side_by_side, Difference};
-use vk_render::scene::Shape;
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 
 #[derive(Args)]
@@ -208,14 +207,7 @@ fn scene_words((name, overrides): (&str, &[&str])) -> String {
 fn object_name(scene: &Scene, object: Option<usize>) -> String {
     match object.and_then(|i| scene.objects.get(i).map(|o| (i, o))) {
         None => "background".into(),
-        Some((i, o)) => {
-            let shape = match o.shape {
-                Shape::Sphere { .. } => "sphere",
-                Shape::Plane { .. } => "plane",
-                Shape::Mesh { .. } | Shape::Triangles(_) => "mesh",
-            };
-            format!("{shape} (object {i}, material {})", o.material)
-        }
+        Some((i, o)) => format!("{} (object {i}, material {})", o.shape.kind(), o.material),
     }
 }
 

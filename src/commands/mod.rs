@@ -21,7 +21,7 @@ use clap::Args;
 
 use vk_render::analysis::{select_materials, NamedBrdf};
 use vk_render::chart::ChartFile;
-use vk_render::output::{write_file, TermScale};
+use vk_render::output::write_file;
 use vk_render::scene::View;
 use vk_render::{Override, Renderer, Scene};
 
@@ -155,8 +155,7 @@ pub fn render_png_pixels(renderer: &mut Renderer, scene: &Scene) -> vk_render::R
         return renderer.render_rgb8(scene);
     }
     let image = renderer.render(scene)?;
-    let channels = image.pixels.iter().flat_map(|c| c.to_array());
-    if let Some(scale) = TermScale::of(scene.image.view, channels) {
+    if let Some(scale) = image.term_scale(scene.image.view) {
         println!("{}", scale.describe());
     }
     Ok(image.to_rgb8(&scene.image))

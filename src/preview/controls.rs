@@ -4,7 +4,7 @@ use glam::Vec3;
 use winit::keyboard::{Key, NamedKey};
 
 use crate::brdf::{Brdf, DiffuseModel};
-use crate::scene::{Camera, Scene, Shape};
+use crate::scene::{Camera, Scene};
 
 /// One user action.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -208,11 +208,7 @@ impl Controls {
         let Some(object) = scene.objects.get(self.selected) else {
             return format!("vk-render: no object - {frame_ms:.1} ms");
         };
-        let shape = match object.shape {
-            Shape::Sphere { .. } => "sphere",
-            Shape::Plane { .. } => "plane",
-            Shape::Mesh { .. } | Shape::Triangles(_) => "mesh",
-        };
+        let shape = object.shape.kind();
         format!(
             "vk-render: object {}/{} ({shape}, material {}): {} - {frame_ms:.1} ms",
             self.selected + 1,

@@ -235,6 +235,15 @@ pub struct Triangles {
 }
 
 impl Shape {
+    /// What the object is, in a word, for messages and titles.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Sphere { .. } => "sphere",
+            Shape::Plane { .. } => "plane",
+            Shape::Mesh { .. } | Shape::Triangles(_) => "mesh",
+        }
+    }
+
     /// Object to world for a mesh: translate * Rz * Ry * Rx * scale, so x turns first.
     pub fn mesh_transform(scale: f32, rotate: Vec3, translate: Vec3) -> Mat4 {
         let r = rotate * (std::f32::consts::PI / 180.0);
