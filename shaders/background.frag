@@ -1,11 +1,17 @@
 #version 460
 
-// The scene's background colour, where no object covers a sample.
+// The background where no object covers a sample: the scene's background colour, or the environment seen
+// along the pixel's camera ray (at its centre, as the CPU reference sees it).
 
-#include "common/scene.glsl"
+#include "common/environment_map.glsl"
 
 layout(location = 0) out vec4 out_radiance;
 
 void main() {
+    if (ENVIRONMENT != ENVIRONMENT_NONE && frame.environment.w != 0.0) {
+        vec3 ray = normalize((frame.pixel_rays * vec4(gl_FragCoord.xy, 1.0, 0.0)).xyz);
+        out_radiance = vec4(environment_radiance(ray), 1.0);
+        return;
+    }
     out_radiance = frame.background;
 }

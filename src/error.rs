@@ -15,6 +15,10 @@ pub enum Error {
     #[error("{}: {key} = {value:?}: {message}", scene.display())]
     Mesh { scene: PathBuf, key: String, value: String, message: String },
 
+    /// The environment map of a scene could not be used.
+    #[error("{}: environment.map = {value:?}: {message}", scene.display())]
+    Map { scene: PathBuf, value: String, message: String },
+
     /// A GLSL file failed to compile; `log` is shaderc's message (file:line: error).
     #[error("shader {path} failed to compile:\n{log}")]
     Shader { path: String, log: String },

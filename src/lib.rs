@@ -10,6 +10,7 @@ pub mod brdf;
 pub mod chart;
 pub mod check;
 pub mod compare;
+pub mod environment;
 pub mod error;
 pub mod figures;
 pub mod files;

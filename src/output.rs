@@ -158,16 +158,50 @@ pub fn tonemap(c: f32, curve: Tonemap) -> f32 {
 
 /// Clamps to [0, 1] and encodes one channel to 8 bits. NaN becomes 0 rather than poisoning the image.
 pub fn encode(c: f32, encoding: Encoding) -> u8 {
-    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    let v = transfer(c, encoding) * 255.0;
     match encoding {
         // The course: x255 and truncate, no gamma.
-        Encoding::Linear => (c * 255.0) as u8,
-        // IEC 61966-2-1, rounded to nearest.
+        Encoding::Linear => v as u8,
+        // Rounded to nearest.
+        Encoding::Srgb => v.round() as u8,
+    }
+}
+
+/// One channel clamped to [0, 1] and through the encoding's transfer function, before it is made 8 bits.
+fn transfer(c: f32, encoding: Encoding) -> f32 {
+    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    match encoding {
+        Encoding::Linear => c,
+        // IEC 61966-2-1.
         Encoding::Srgb => {
-            let v = if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
-            (v * 255.0).round() as u8
+            if c <= 0.003_130_8 {
+                12.92 * c
+            } else {
+                1.055 * c.powf(1.0 / 2.4) - 0.055
+            }
         }
     }
+}
+
+/// A linear radiance channel after the whole output transform, in 8-bit levels but not yet rounded to one:
+/// how far apart two radiances land in the image.
+pub fn level(c: f32, settings: &ImageSettings) -> f32 {
+    255.0 * transfer(tonemap(c * settings.exposure, settings.tonemap), settings.encoding)
+}
+
+/// How many 8-bit levels of an image made with `settings` a radiance `mean` moves by when it grows by
+/// `error` (a standard error): the largest channel's.
+pub fn levels_moved(mean: Vec3, error: Vec3, settings: &ImageSettings) -> f32 {
+    (0..3).map(|c| level(mean[c] + error[c], settings) - level(mean[c], settings)).fold(0.0, f32::max)
+}
+
+/// The 99th percentile of `values` (reordered), 0 for none.
+pub fn percentile_99(values: &mut [f32]) -> f32 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let at = ((values.len() - 1) as f64 * 0.99).round() as usize;
+    *values.select_nth_unstable_by(at, f32::total_cmp).1
 }
 
 /// The kinds of file an image can be written to, by the output path's extension.

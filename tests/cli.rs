@@ -661,3 +661,113 @@ fn shadow_map_above_the_device_limit() {
         &["scene.toml", "image.shadow_map_size = 1000000", "above the limit"],
     );
 }
+
+/// Figure 1 with `environment` as its [environment] table, in `folder`.
+fn scene_with_environment(folder: &Path, environment: &str) -> PathBuf {
+    let table = format!("\n[environment]\n{environment}\n");
+    scene_file(folder, move |t| format!("{t}{table}"))
+}
+
+#[test]
+fn a_missing_unreadable_or_misshapen_map_is_named_and_nothing_is_written() {
+    let folder = temp_dir();
+    let dir = folder.path();
+    let scene = scene_with_environment(dir, "map = \"sky.hdr\"");
+    fails_with(&scene, &[], &["scene.toml: environment.map = ", "sky.hdr", "cannot read the environment map"]);
+    std::fs::create_dir(dir.join("sky.hdr")).unwrap();
+    fails_with(&scene, &[], &["environment.map = ", "sky.hdr", "is a folder, not a regular file"]);
+    std::fs::remove_dir(dir.join("sky.hdr")).unwrap();
+    std::fs::write(dir.join("sky.hdr"), "not an image").unwrap();
+    fails_with(
+        &scene,
+        &[],
+        &["environment.map = ", "sky.hdr", "not a map vk-render can read (Radiance .hdr or OpenEXR)"],
+    );
+    let square = dir.join("square.exr");
+    image::Rgb32FImage::from_pixel(30, 20, image::Rgb([1.0; 3])).save(&square).unwrap();
+    let scene = scene_with_environment(dir, "map = \"square.exr\"");
+    fails_with(
+        &scene,
+        &[],
+        &["square.exr", "the map is 30 x 20 texels: an equirectangular map is twice as wide as high"],
+    );
+    let negative = dir.join("negative.exr");
+    let mut map = image::Rgb32FImage::from_pixel(8, 4, image::Rgb([1.0; 3]));
+    map.put_pixel(5, 2, image::Rgb([1.0, -2.0, 1.0]));
+    map.save(&negative).unwrap();
+    let scene = scene_with_environment(dir, "map = \"negative.exr\"");
+    fails_with(&scene, &[], &["negative.exr", "texel (5, 2) holds [1, -2, 1]: radiance must be finite and at least 0"]);
+}
+
+#[test]
+fn a_bad_environment_setting_names_its_key_and_value() {
+    let folder = temp_dir();
+    let dir = folder.path();
+    let cases = [
+        ("builtin = \"sky\"\nintensity = -1", "environment.intensity = -1: must be a finite number, at least 0"),
+        (
+            "builtin = \"forest\"",
+            "environment.builtin = \"forest\": unknown environment (expected \"white\", \"sky\" or \"studio\")",
+        ),
+        (
+            "builtin = \"sky\"\nmap = \"a.hdr\"",
+            "environment.builtin = \"sky\": the environment already has map = \"a.hdr\"",
+        ),
+        ("intensity = 2", "environment: has neither map = \"PATH.hdr\" (or .exr) nor builtin"),
+        (
+            "builtin = \"sky\"\nmode = \"quick\"",
+            "environment.mode = \"quick\": unknown mode (expected \"exact\" or \"fast\")",
+        ),
+    ];
+    for (table, message) in cases {
+        let scene = scene_with_environment(dir, table);
+        fails_with(&scene, &[], &["scene.toml", message]);
+    }
+    // A scene without [environment] is given one by --set; --environment-mode alone names what is missing.
+    let plain = scene_file(dir, |t| t.to_string());
+    fails_with(&plain, &["--environment-mode", "fast"], &["environment: has neither map"]);
+}
+
+#[test]
+fn an_environment_renders_in_both_modes_and_states_its_accuracy() {
+    let folder = temp_dir();
+    let scene = scene_file(folder.path(), |t| t.to_string());
+    let out = folder.path().join("sky.png");
+    let small = ["--width", "48", "--height", "32", "--set", "environment.builtin=\"sky\""];
+    let exact = render_to(&scene, &out, &small);
+    let stdout = String::from_utf8_lossy(&exact.stdout);
+    assert!(exact.status.success(), "{}", String::from_utf8_lossy(&exact.stderr));
+    assert!(stdout.contains("environment (exact): ") && stdout.contains("samples a pixel in"), "{stdout}");
+    let exact_image = image::open(&out).unwrap().into_rgb8();
+    let fast = render_to(&scene, &out, &[&small[..], &["--environment-mode", "fast"]].concat());
+    assert!(fast.status.success(), "{}", String::from_utf8_lossy(&fast.stderr));
+    assert!(!String::from_utf8_lossy(&fast.stdout).contains("environment (exact)"));
+    assert_ne!(image::open(&out).unwrap().into_rgb8(), exact_image, "the fast mode is its own approximation");
+}
+
+#[test]
+fn a_sweep_turns_an_environment() {
+    let folder = temp_dir();
+    let sheet = folder.path().join("turn.png");
+    let spheres = root().join("assets/environment/spheres-sky.toml");
+    let args = [
+        "sweep",
+        spheres.to_str().unwrap(),
+        "--param",
+        "environment.rotation",
+        "--values",
+        "0,180",
+        "--environment-mode",
+        "fast",
+        "--width",
+        "64",
+        "--height",
+        "32",
+        "-o",
+        sheet.to_str().unwrap(),
+    ];
+    let output = vk_render(&args);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let tile = |value: &str| image::open(folder.path().join(format!("turn-{value}.png"))).unwrap().into_rgb8();
+    assert_ne!(tile("0"), tile("180"), "turning the sky moved nothing");
+}

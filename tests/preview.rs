@@ -10,6 +10,7 @@ use std::process::{Command, Output};
 use std::time::Duration;
 
 use common::*;
+use vk_render::Scene;
 
 /// `vk-render --validate preview ARGS` in a virtual X server, with a private runtime folder (kept alive by
 /// the returned guard), as the loader wants under Xvfb.
@@ -168,4 +169,38 @@ fn b_shows_the_selected_objects_lobe() {
     scene.objects.extend(lobe);
     assert_same(&shot, &render(&scene).to_rgb8(&scene.image), "with the lobe");
     assert_ne!(shot, offscreen("fig1-lambert.toml", &size), "B changed nothing");
+}
+
+/// The sky's spheres previewed at 96 x 48 for `frames` still frames: the last frame presented.
+fn environment_screenshot(frames: u32) -> image::RgbImage {
+    let folder = temp_dir();
+    let shot = folder.path().join("shot.png");
+    let scene = root().join("assets/environment/spheres-sky.toml");
+    let frames = frames.to_string();
+    let args = [scene.to_str().unwrap(), "--frames", &frames, "--screenshot", shot.to_str().unwrap()];
+    let output = preview(&[&args[..], &["--width", "96", "--height", "48"]].concat());
+    succeeded(&output);
+    image::open(&shot).unwrap().into_rgb8()
+}
+
+#[test]
+fn with_an_environment_a_moving_frame_is_fast_and_a_still_one_refines_to_the_exact_render() {
+    let overrides = ["image.width=96", "image.height=48"];
+    let exact = {
+        let scene = Scene::load(&root().join("assets/environment/spheres-sky.toml"), &parsed(&overrides)).unwrap();
+        render(&scene).to_rgb8(&scene.image)
+    };
+    let fast = {
+        let mut overrides = parsed(&overrides);
+        overrides.push("environment.mode=\"fast\"".parse().unwrap());
+        let scene = Scene::load(&root().join("assets/environment/spheres-sky.toml"), &overrides).unwrap();
+        render(&scene).to_rgb8(&scene.image)
+    };
+    assert_eq!(environment_screenshot(1), fast, "the first frame is the fast mode's render");
+    // One fast frame, then at most 256 exact passes, one a frame: the still image is the exact render.
+    assert_eq!(environment_screenshot(300), exact, "the refined frame is the exact render");
+}
+
+fn parsed(overrides: &[&str]) -> Vec<vk_render::Override> {
+    overrides.iter().map(|o| o.parse().unwrap()).collect()
 }

@@ -27,6 +27,10 @@ layout(constant_id = 0) const uint BRDF_SPECIALIZED = BRDF_FROM_MATERIAL;
 // The same for the diffuse lobe under Cook-Torrance (DIFFUSE_* of cook_torrance.glsl).
 layout(constant_id = 3) const uint DIFFUSE_SPECIALIZED = BRDF_FROM_MATERIAL;
 
+// The material's BRDF id: the pipeline's when it fixes one, so that a branch on it is settled when the
+// pipeline is built.
+uint brdf_id(Material m) { return BRDF_SPECIALIZED == BRDF_FROM_MATERIAL ? m.brdf : BRDF_SPECIALIZED; }
+
 // f_r(wi, wo) at a surface with unit normal n, without the cosine; wi and wo point away from the surface.
 // Mirrors Brdf::eval in src/brdf/mod.rs. Reflection only: zero when wi or wo is at or below the horizon;
 // every model relies on this check, made here once.
@@ -34,7 +38,7 @@ vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {
     if (dot(n, wi) <= 0.0 || dot(n, wo) <= 0.0) {
         return vec3(0.0);
     }
-    switch (BRDF_SPECIALIZED == BRDF_FROM_MATERIAL ? m.brdf : BRDF_SPECIALIZED) {
+    switch (brdf_id(m)) {
         case BRDF_LAMBERT:
             return lambert(m.kd.rgb);
         case BRDF_OREN_NAYAR:

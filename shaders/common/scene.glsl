@@ -29,6 +29,12 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 background;           // rgb, alpha 1: what no object covers
     float shadow_texel_angle;  // 2 / shadow_map_size: a texel's angle at the centre of a cube face
     uint samples;              // MSAA samples per pixel, at Vulkan's standard sample locations
+    // The environment (common/environment_map.glsl): cos and sin of its rotation about +y, its intensity,
+    // and 1 where the background shows it.
+    vec4 environment;
+    // The exact mode: the sampling table's width and height (0 for a constant environment, which is not
+    // importance-sampled), the first sample of this pass, and the samples a pass takes.
+    uvec4 environment_sampling;
 } frame;
 
 layout(set = 0, binding = 1, std430) readonly buffer Lights { PointLight lights[]; };

@@ -1,12 +1,14 @@
 #ifndef COMMON_SHADING_GLSL
 #define COMMON_SHADING_GLSL
 
-// Forward shading: L = sum over lights of f_r(wi, wo) * radiance / d^2 * max(0, n . wi), no ambient. Shared
+// Forward shading: L = sum over lights of f_r(wi, wo) * radiance / d^2 * max(0, n . wi), plus the
+// environment's light where the scene has one (common/environment.glsl), no ambient. Shared
 // by the pass for meshes and planes (forward.frag) and the one for exact spheres (forward_sphere.frag).
 
 #include "common/scene.glsl"
 #include "common/brdf.glsl"
 #include "common/views.glsl"
+#include "common/environment.glsl"
 
 const float MIN_NOV = 1e-4;
 
@@ -112,6 +114,9 @@ vec3 pixel_value(ObjectData object, vec3 p, vec3 n) {
         }
         float visible = view_is_radiance() ? light_visibility(lights[i], p, NoL, sqrt(d2)) : 1.0;
         radiance += light_view(object.material, n, wi, wo, lights[i].radiance.rgb / d2, NoL, visible);
+    }
+    if (ENVIRONMENT != ENVIRONMENT_NONE) {
+        radiance += environment_light(object.material, n, wo);
     }
     return radiance;
 }

@@ -100,6 +100,7 @@ pub fn lobe_scene(
         lights: vec![light(eye), light(target + Vec3::new(0.0, 4.0 * reach, 0.0))],
         objects,
         materials,
+        environment: None,
     })
 }
 

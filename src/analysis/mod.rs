@@ -3,7 +3,7 @@
 //! so that a plot and a render can never disagree. A layer above [`crate::render`]; [`crate::chart`] draws
 //! what it computes.
 
-pub mod albedo;
+pub use crate::render::albedo;
 pub mod fit;
 pub mod furnace;
 pub mod lobe;

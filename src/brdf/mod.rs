@@ -100,6 +100,19 @@ impl Brdf {
         }
     }
 
+    /// The same material with its diffuse lobe taken out (kd = 0), so that [`Brdf::eval`] is its specular
+    /// lobe alone; `None` for the models that are all diffuse.
+    pub fn specular_only(&self) -> Option<Brdf> {
+        match *self {
+            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } => None,
+            Brdf::Phong { ks, shininess, .. } => Some(Brdf::Phong { kd: Vec3::ZERO, ks, shininess }),
+            Brdf::BlinnPhong { ks, shininess, .. } => Some(Brdf::BlinnPhong { kd: Vec3::ZERO, ks, shininess }),
+            Brdf::CookTorrance { f0, roughness, metalness, diffuse, .. } => {
+                Some(Brdf::CookTorrance { kd: Vec3::ZERO, f0, roughness, metalness, diffuse })
+            }
+        }
+    }
+
     /// The specular lobe of [`Brdf::eval`]; mirrors `brdf_eval_specular` in `shaders/common/brdf.glsl`.
     pub fn eval_specular(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {

@@ -8,7 +8,7 @@ use clap::Args;
 use super::{render_png_pixels, warn, ImageArgs};
 use vk_render::output::{write_png, OutputFormat};
 use vk_render::report::{side_by_side, Difference};
-use vk_render::{Renderer, RendererOptions, Scene};
+use vk_render::{Override, Renderer, RendererOptions, Scene};
 
 #[derive(Args)]
 pub struct CompareArgs {
@@ -25,12 +25,18 @@ pub struct CompareArgs {
     /// Overrides applied to both scenes.
     #[command(flatten)]
     image: ImageArgs,
+
+    /// Override one value of B alone (after those of both), e.g. --set-b environment.mode=fast to compare a
+    /// scene's exact and fast environment light.
+    #[arg(long = "set-b", value_name = "KEY=VALUE")]
+    set_b: Vec<Override>,
 }
 
 /// Renders both scenes, prints their differences and writes the report.
 pub fn run(args: CompareArgs, options: RendererOptions) -> anyhow::Result<()> {
     let overrides = args.image.overrides();
-    let (a, b) = (Scene::load(&args.a, &overrides)?, Scene::load(&args.b, &overrides)?);
+    let overrides_b: Vec<Override> = overrides.iter().chain(&args.set_b).cloned().collect();
+    let (a, b) = (Scene::load(&args.a, &overrides)?, Scene::load(&args.b, &overrides_b)?);
     if OutputFormat::for_path(&args.output)? != OutputFormat::Png {
         anyhow::bail!("{}: a comparison report is a .png image", args.output.display());
     }
@@ -68,7 +74,14 @@ pub fn run(args: CompareArgs, options: RendererOptions) -> anyhow::Result<()> {
     };
     let panels = [
         (format!("A: {}", name(&args.a)), image_a),
-        (format!("B: {}", name(&args.b)), image_b),
+        (
+            format!(
+                "B: {}{}",
+                name(&args.b),
+                args.set_b.iter().map(|o| format!(", {}={}", o.path, o.value)).collect::<String>()
+            ),
+            image_b,
+        ),
         (format!("|A - B|, 0 to {} levels", difference.scale()), difference.heat_map()),
     ];
     let title = format!("mean {:.3}, p99 {}, max {} levels", stats.mean_abs, stats.p99, stats.max);

@@ -44,6 +44,11 @@ pub struct ImageArgs {
     #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(View::ALL.map(View::name)))]
     view: Option<String>,
 
+    /// How the scene's [environment] is integrated: exact (stills) or fast (prefiltered) (same as --set
+    /// environment.mode=MODE).
+    #[arg(long, value_parser = ["exact", "fast"])]
+    environment_mode: Option<String>,
+
     #[command(flatten)]
     set: SetArgs,
 }
@@ -67,6 +72,9 @@ impl ImageArgs {
         }
         if let Some(view) = &self.view {
             overrides.push(Override::new("image.view", view.as_str()));
+        }
+        if let Some(mode) = &self.environment_mode {
+            overrides.push(Override::new("environment.mode", mode.as_str()));
         }
         overrides.extend(self.set.overrides.iter().cloned());
         overrides
@@ -152,13 +160,22 @@ impl StudyArgs {
 /// on the image: see `TermScale`).
 pub fn render_png_pixels(renderer: &mut Renderer, scene: &Scene) -> vk_render::Result<image::RgbImage> {
     if scene.image.view.is_radiance() {
-        return renderer.render_rgb8(scene);
+        let pixels = renderer.render_rgb8(scene)?;
+        print_accuracy(renderer);
+        return Ok(pixels);
     }
     let image = renderer.render(scene)?;
     if let Some(scale) = image.term_scale(scene.image.view) {
         println!("{}", scale.describe());
     }
     Ok(image.to_rgb8(&scene.image))
+}
+
+/// Says how exact the environment light of the last image is, when it was integrated in the exact mode.
+pub fn print_accuracy(renderer: &Renderer) {
+    if let Some(accuracy) = renderer.accuracy() {
+        println!("environment (exact): {accuracy}");
+    }
 }
 
 /// A progress bar on standard error for a long command (sweeps, figures, fits, furnace tables, albedos):

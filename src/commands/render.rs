@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::{render_png_pixels, warn, ImageArgs};
+use super::{print_accuracy, render_png_pixels, warn, ImageArgs};
 use vk_render::output::{write_image, write_png, OutputFormat};
 use vk_render::vulkan::ShaderSources;
 use vk_render::{Renderer, RendererOptions, Scene};
@@ -40,7 +40,10 @@ pub fn run(args: RenderArgs, mut options: RendererOptions) -> anyhow::Result<()>
     let mut renderer = Renderer::new(options)?;
     match OutputFormat::for_path(&args.output)? {
         OutputFormat::Png => write_png(&render_png_pixels(&mut renderer, &scene)?, &args.output)?,
-        OutputFormat::Exr => write_image(&renderer.render(&scene)?, &scene.image, &args.output)?,
+        OutputFormat::Exr => {
+            write_image(&renderer.render(&scene)?, &scene.image, &args.output)?;
+            print_accuracy(&renderer);
+        }
     }
     log::info!("wrote {}", args.output.display());
     Ok(())

@@ -6,6 +6,7 @@
 //! writes, byte for byte.
 
 mod controls;
+mod refine;
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -177,8 +178,9 @@ impl ApplicationHandler for App {
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         let Some(running) = self.running.as_mut() else { return };
         running.hot_reload();
-        if running.options_frames.is_some() || running.deadline.is_some() || !running.script.is_empty() {
-            // Headless runs draw frame after frame until done.
+        let refining = refine::refining(&running.refinement);
+        if running.options_frames.is_some() || running.deadline.is_some() || !running.script.is_empty() || refining {
+            // Headless runs draw frame after frame until done; a still image refines frame after frame.
             running.window.request_redraw();
             event_loop.set_control_flow(ControlFlow::Poll);
         } else {
@@ -228,6 +230,10 @@ struct Running {
     /// The lobe shown (B): the scene and the object it was made for, and its objects, made again when either
     /// changes (the camera included: the lobe stands where the camera sees it best).
     lobe: Option<((Scene, usize), Vec<Object>)>,
+    /// The exact passes of the environment light of the still image (refine.rs).
+    refinement: Option<refine::Refinement>,
+    /// What the last frame showed of the environment, for the title.
+    shown: refine::Shown,
 }
 
 impl Running {
@@ -270,6 +276,8 @@ impl Running {
             watched: Watched::new(&options.scene, options.shaders.clone()),
             window,
             lobe: None,
+            refinement: None,
+            shown: refine::Shown::Render,
         })
     }
 
@@ -359,7 +367,7 @@ impl Running {
         }
         self.pace.presented_one();
         let frame_ms = started.elapsed().as_secs_f64() * 1e3;
-        self.window.set_title(&self.controls.title(&self.scene, frame_ms));
+        self.window.set_title(&format!("{}{}", self.controls.title(&self.scene, frame_ms), self.shown.describe()));
         if last {
             event_loop.exit();
         }
@@ -404,8 +412,12 @@ impl Running {
         let upload = self.upload.insert(upload);
         let bgra = swapchain.format == vk::Format::B8G8R8A8_UNORM;
         let order = if bgra { TexelOrder::Bgra } else { TexelOrder::Rgba };
-        match self.renderer.render_texels(shown.as_ref().unwrap_or(&self.scene), order, upload.bytes_mut()?) {
-            Ok(()) => self.last_good = self.scene.clone(),
+        let frame = shown.as_ref().unwrap_or(&self.scene);
+        match refine::render_frame(&mut self.renderer, &mut self.refinement, frame, order, upload.bytes_mut()?) {
+            Ok(shown) => {
+                self.shown = shown;
+                self.last_good = self.scene.clone();
+            }
             Err(e @ (Error::Scene { .. } | Error::Mesh { .. })) => {
                 log::error!("{e} (keeping the last good scene)");
                 self.scene = self.last_good.clone();

@@ -10,7 +10,7 @@ use super::gpu_types::GpuMaterial;
 use super::passes::{begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
-use crate::scene::{Object, Scene, ShadowFilter};
+use crate::scene::{EnvironmentMode, Object, Scene, ShadowFilter};
 use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderCompiler};
 
 /// The HDR colour format: 32-bit float, so that the course's truncation to 8 bits sees exact values.
@@ -30,13 +30,15 @@ pub struct ForwardPass {
 /// What a forward pipeline is built for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PipelineKey {
-    /// The background of an image of `samples` (no vertex input, every depth test passing).
-    Background { samples: vk::SampleCountFlags },
+    /// The background of an image of `samples` (no vertex input, every depth test passing), showing the
+    /// environment or not.
+    Background { samples: vk::SampleCountFlags, environment: bool },
     /// Objects of one kind (meshes, or exact spheres) and the values of the fragment shader's specialization
     /// constants, in the order of their `constant_id`s: the BRDF (brdf.glsl's `BRDF_SPECIALIZED`), the shadow
     /// filter and the number of lights (shading.glsl's `SHADOW_FILTER` and `LIGHT_COUNT`), Cook-Torrance's
-    /// diffuse lobe (brdf.glsl's `DIFFUSE_SPECIALIZED`) and what the image shows (shading.glsl's `VIEW`).
-    Objects { samples: vk::SampleCountFlags, exact_sphere: bool, constants: [u32; 5] },
+    /// diffuse lobe (brdf.glsl's `DIFFUSE_SPECIALIZED`), what the image shows (views.glsl's `VIEW`) and how
+    /// the environment is integrated (environment.glsl's `ENVIRONMENT`).
+    Objects { samples: vk::SampleCountFlags, exact_sphere: bool, constants: [u32; 6] },
 }
 
 impl PipelineKey {
@@ -56,13 +58,27 @@ impl PipelineKey {
                 scene.lights.len() as u32,
                 material.diffuse,
                 scene.image.view.id(),
+                environment_constant(scene),
             ],
         }
     }
 
     /// The background of `scene`'s image.
     pub fn background(scene: &Scene) -> Self {
-        Self::Background { samples: vk::SampleCountFlags::from_raw(scene.image.samples) }
+        Self::Background {
+            samples: vk::SampleCountFlags::from_raw(scene.image.samples),
+            environment: scene.environment.as_ref().is_some_and(|e| e.visible),
+        }
+    }
+}
+
+/// environment.glsl's `ENVIRONMENT` for `scene`: none, exact or fast.
+fn environment_constant(scene: &Scene) -> u32 {
+    match scene.environment.as_ref().map(|e| e.mode) {
+        _ if !scene.image.view.is_radiance() => 0,
+        None => 0,
+        Some(EnvironmentMode::Exact) => 1,
+        Some(EnvironmentMode::Fast) => 2,
     }
 }
 
@@ -109,7 +125,7 @@ impl ForwardPass {
                 let (vertex, fragment) = if exact_sphere { &self.spheres } else { &self.meshes };
                 build_pipeline(&self.device, &self.layout, (vertex, fragment), (COLOR_FORMAT, samples), &constants)
             }
-            PipelineKey::Background { samples } => {
+            PipelineKey::Background { samples, environment } => {
                 let (vertex, fragment) = &self.background;
                 let vertex_module = self.device.create_shader_module(&vertex.spirv, vertex.name)?;
                 let fragment_module = self.device.create_shader_module(&fragment.spirv, fragment.name)?;
@@ -123,7 +139,7 @@ impl ForwardPass {
                     depth_compare: vk::CompareOp::ALWAYS,
                     samples,
                     layout: &self.layout,
-                    fragment_constants: &[],
+                    fragment_constants: &[0, 0, 0, 0, 0, u32::from(environment)],
                 };
                 self.device.create_graphics_pipeline(&desc, &format!("background x{}", samples.as_raw()))
             }

@@ -21,6 +21,20 @@ pub struct GpuFrame {
     /// MSAA samples per pixel.
     pub samples: u32,
     pub pad: [u32; 2],
+    /// The environment: cos and sin of its rotation, its intensity, and 1 where the background shows it.
+    pub environment: [f32; 4],
+    /// The exact mode's sampling: the sampling grid's width and height (0 for a constant environment, not
+    /// importance-sampled), the first sample of this pass, and the samples a pass takes.
+    pub environment_sampling: [u32; 4],
+}
+
+/// One entry of an object's albedo table (`AlbedoEntry`, std430): the directional albedo of its diffuse
+/// and of its specular lobe at one cos(theta_o).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GpuAlbedoEntry {
+    pub diffuse: [f32; 4],
+    pub specular: [f32; 4],
 }
 
 /// `PointLight` (std430).
@@ -123,6 +137,8 @@ impl GpuFrame {
             shadow_texel_angle: 2.0 / image.shadow_map_size as f32,
             samples: image.samples,
             pad: [0; 2],
+            environment: [1.0, 0.0, 0.0, 0.0],
+            environment_sampling: [0; 4],
         }
     }
 }
@@ -274,6 +290,8 @@ mod tests {
                 ("background", offset_of!(GpuFrame, background)),
                 ("shadow_texel_angle", offset_of!(GpuFrame, shadow_texel_angle)),
                 ("samples", offset_of!(GpuFrame, samples)),
+                ("environment", offset_of!(GpuFrame, environment)),
+                ("environment_sampling", offset_of!(GpuFrame, environment_sampling)),
             ],
         );
         assert_offsets(
@@ -312,9 +330,15 @@ mod tests {
                 ("flags", offset_of!(GpuObject, flags)),
             ],
         );
+        assert_offsets(
+            &layouts,
+            "AlbedoEntry",
+            &[("diffuse", offset_of!(GpuAlbedoEntry, diffuse)), ("specular", offset_of!(GpuAlbedoEntry, specular))],
+        );
         // The storage buffers' arrays step by the Rust structs' sizes.
         assert_eq!(layouts.strides.get("PointLight"), Some(&(size_of::<GpuPointLight>() as u32)));
         assert_eq!(layouts.strides.get("ObjectData"), Some(&(size_of::<GpuObject>() as u32)));
+        assert_eq!(layouts.strides.get("AlbedoEntry"), Some(&(size_of::<GpuAlbedoEntry>() as u32)));
     }
 
     #[test]

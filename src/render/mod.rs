@@ -1,5 +1,8 @@
 //! The offscreen renderer: a scene in, a linear HDR image out, through Vulkan.
 
+pub mod albedo;
+mod environment;
+pub mod exact;
 mod forward;
 pub mod gpu_types;
 mod passes;
@@ -8,25 +11,30 @@ mod scene_data;
 mod shadow;
 mod targets;
 
+use std::borrow::Cow;
 use std::sync::Arc;
 
 use ash::vk;
 use glam::{Mat4, Vec3};
 
+use crate::brdf::Brdf;
+use crate::environment::EnvironmentMap;
 use crate::error::{Error, Result};
 use crate::mesh::{place_objects, PlacedMesh};
 use crate::output::{encode_texels, HdrImage, TexelOrder};
-use crate::scene::Scene;
+use crate::scene::{EnvironmentMode, Scene};
 use crate::vulkan::{
     layer_range, layout_transition, whole_image_copy, Access, Device, DeviceInfo, Instance, PipelineLayout, Sampler,
     ShaderCompiler, ShaderSources,
 };
+use environment::{EnvironmentTextures, MAP_FORMAT};
+use exact::{Accuracy, Passes, SAMPLES_PER_PASS};
 use forward::{ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
-use gpu_types::{GpuFrame, GpuObject, GpuPointLight};
+use gpu_types::{GpuAlbedoEntry, GpuFrame, GpuObject, GpuPointLight};
 use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
 use probe::{read_vec3s, ProbePass};
 pub use probe::{AlbedoCell, AlbedoJob, CellIntegral, ProbeCase};
-use scene_data::{SceneData, SceneValues};
+use scene_data::{SceneData, SceneImages, SceneValues};
 use shadow::{cube_face_views, faces_read_by, FaceKey, ShadowCubes, ShadowPass, DISTANCE_FORMAT};
 use targets::{Targets, BYTES_PER_PIXEL};
 
@@ -64,8 +72,22 @@ pub struct Renderer {
     shadow_cubes: Option<ShadowCubes>,
     targets: Option<Targets>,
     scene_data: Option<SceneData>,
+    /// The environment of the last scene that had one (per scene), or black placeholders.
+    environment: EnvironmentTextures,
+    environment_sampler: Sampler,
+    /// The fast mode's albedo tables, by material (per process: they depend on the material alone).
+    albedo_tables: Vec<(Brdf, Vec<GpuAlbedoEntry>)>,
+    /// How exact the last image's environment light was, when it was integrated in the exact mode.
+    accuracy: Option<Accuracy>,
     device: Arc<Device>,
 }
+
+/// Entries of an albedo table: cos(theta_o) = (k + 1/2) / ALBEDO_TABLE_SIZE for entry k, read linearly
+/// between (environment.glsl's `environment_albedo_at`).
+pub const ALBEDO_TABLE_SIZE: usize = 32;
+
+/// The error bound asked of each entry: far below what the fast mode's split sum itself approximates.
+const ALBEDO_TABLE_TOLERANCE: f64 = 1e-4;
 
 impl Renderer {
     /// Opens Vulkan, chooses the device and compiles the shaders.
@@ -103,7 +125,14 @@ impl Renderer {
         let layout = scene_layout(&device)?;
         let shadow = ShadowPass::new(&device, &compiler, &layout)?;
         let forward = ForwardPass::new(&device, &compiler, &layout)?;
+        device.require_format(
+            MAP_FORMAT,
+            vk::FormatFeatureFlags::SAMPLED_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR,
+            "environment maps",
+        )?;
         let shadow_sampler = device.create_nearest_sampler("shadow cubes")?;
+        let environment = EnvironmentTextures::placeholder(&device)?;
+        let environment_sampler = device.create_environment_sampler("environment maps")?;
         let renderer = Self {
             layout,
             shadow,
@@ -115,6 +144,10 @@ impl Renderer {
             shadow_cubes: None,
             targets: None,
             scene_data: None,
+            environment,
+            environment_sampler,
+            albedo_tables: Vec::new(),
+            accuracy: None,
             device,
         };
         renderer.check_validation()?;
@@ -216,7 +249,7 @@ impl Renderer {
     pub fn render(&mut self, scene: &Scene) -> Result<HdrImage> {
         let bytes = self.draw_and_read_back(scene)?;
         let (width, height) = (scene.image.width, scene.image.height);
-        Ok(HdrImage { width, height, pixels: read_vec3s(bytes, BYTES_PER_PIXEL as usize) })
+        Ok(HdrImage { width, height, pixels: read_vec3s(&bytes, BYTES_PER_PIXEL as usize) })
     }
 
     /// Renders the scene and writes it after the whole output transform into `texels`, laid out as `order`
@@ -230,7 +263,7 @@ impl Renderer {
         if texels.len() / order.bytes() != bytes.len() / BYTES_PER_PIXEL as usize {
             return Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED));
         }
-        encode_texels(bytes, &scene.image, order, texels);
+        encode_texels(&bytes, &scene.image, order, texels);
         Ok(())
     }
 
@@ -247,16 +280,111 @@ impl Renderer {
     }
 
     /// Checks the scene against the device, draws it and returns the read-back buffer's bytes: four floats a
-    /// pixel, rows from the top.
-    fn draw_and_read_back(&mut self, scene: &Scene) -> Result<&[u8]> {
+    /// pixel, rows from the top. An environment in the exact mode is integrated pass after pass until it is
+    /// as exact as [`exact::TARGET_LEVELS`] says ([`Renderer::accuracy`] says how exact it came out).
+    fn draw_and_read_back(&mut self, scene: &Scene) -> Result<Cow<'_, [u8]>> {
         self.check_image_settings(scene)?;
         let placed = place_objects(scene)?;
-        self.draw(scene, &placed)?;
+        self.accuracy = None;
+        if integrates_exactly(scene) {
+            let mut passes = Passes::new(scene.image.width, scene.image.height);
+            while !passes.done(&scene.image) {
+                self.add_pass(scene, &placed, &mut passes)?;
+            }
+            self.accuracy = Some(passes.accuracy(&scene.image));
+            return Ok(Cow::Owned(passes.mean_bytes()));
+        }
+        self.draw(scene, &placed, 0)?;
         self.check_validation()?;
         match &self.targets {
-            Some(targets) => targets.readback.bytes(),
+            Some(targets) => targets.readback.bytes().map(Cow::Borrowed),
             None => Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED)),
         }
+    }
+
+    /// How exact the last image's environment light was, if it was integrated in the exact mode.
+    pub fn accuracy(&self) -> Option<Accuracy> {
+        self.accuracy
+    }
+
+    /// Draws one more pass of the exact mode into `passes` (the preview refines a still image so).
+    ///
+    /// # Errors
+    /// As [`Renderer::render`].
+    pub fn refine(&mut self, scene: &Scene, passes: &mut Passes) -> Result<()> {
+        self.check_image_settings(scene)?;
+        let placed = place_objects(scene)?;
+        self.add_pass(scene, &placed, passes)
+    }
+
+    fn add_pass(&mut self, scene: &Scene, placed: &[PlacedMesh], passes: &mut Passes) -> Result<()> {
+        self.draw(scene, placed, passes.next_first_sample())?;
+        self.check_validation()?;
+        match &self.targets {
+            Some(targets) => passes.add(targets.readback.bytes()?),
+            None => return Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED)),
+        }
+        Ok(())
+    }
+
+    /// Loads and uploads the scene's environment where it is not the one held, prefilters it for the fast
+    /// mode, and returns the objects' albedo tables (the fast mode's; one unused entry otherwise).
+    fn prepare_environment(&mut self, scene: &Scene) -> Result<Vec<GpuAlbedoEntry>> {
+        let Some(environment) = &scene.environment else { return Ok(vec![GpuAlbedoEntry::default()]) };
+        if self.environment.source.as_ref() != Some(&environment.source) {
+            let map = EnvironmentMap::of(scene, environment)?;
+            let max = self.device.limits.max_image_dimension2_d;
+            if map.width > max {
+                let value = match &environment.source {
+                    crate::scene::EnvironmentSource::Map(path) => path.display().to_string(),
+                    crate::scene::EnvironmentSource::Builtin(builtin) => builtin.name().to_string(),
+                };
+                return Err(Error::Map {
+                    scene: scene.source.clone(),
+                    value,
+                    message: format!(
+                        "the map is {} texels wide, above the limit of {max} of device {} ({})",
+                        map.width, self.device.info.index, self.device.info.name
+                    ),
+                });
+            }
+            self.environment = EnvironmentTextures::new(&self.device, Some(environment.source.clone()), map)?;
+        }
+        if environment.mode != EnvironmentMode::Fast || !scene.image.view.is_radiance() {
+            return Ok(vec![GpuAlbedoEntry::default()]);
+        }
+        self.environment.prefilter(&self.device)?;
+        let mut entries = Vec::with_capacity(scene.objects.len() * ALBEDO_TABLE_SIZE);
+        for object in &scene.objects {
+            entries.extend(self.albedo_table(&object.brdf)?);
+        }
+        Ok(entries)
+    }
+
+    /// The directional albedo of `brdf`'s diffuse and specular lobes at each cos(theta_o) of an albedo
+    /// table, by the albedo probe (`brdf_eval` itself); kept for the process.
+    fn albedo_table(&mut self, brdf: &Brdf) -> Result<Vec<GpuAlbedoEntry>> {
+        if let Some((_, table)) = self.albedo_tables.iter().find(|(b, _)| b == brdf) {
+            return Ok(table.clone());
+        }
+        let theta_o: Vec<f64> =
+            (0..ALBEDO_TABLE_SIZE).map(|k| ((k as f64 + 0.5) / ALBEDO_TABLE_SIZE as f64).acos()).collect();
+        let total = albedo::directional_albedos(self, brdf, &theta_o, ALBEDO_TABLE_TOLERANCE)?;
+        let specular = match brdf.specular_only() {
+            Some(lobe) => albedo::directional_albedos(self, &lobe, &theta_o, ALBEDO_TABLE_TOLERANCE)?,
+            None => vec![albedo::Albedo { rho: [0.0; 3], error_bound: 0.0 }; ALBEDO_TABLE_SIZE],
+        };
+        let rgba = |rho: [f64; 3]| [rho[0] as f32, rho[1] as f32, rho[2] as f32, 0.0];
+        let table: Vec<GpuAlbedoEntry> = total
+            .iter()
+            .zip(&specular)
+            .map(|(t, s)| GpuAlbedoEntry {
+                diffuse: rgba([0, 1, 2].map(|c| (t.rho[c] - s.rho[c]).max(0.0))),
+                specular: rgba(s.rho),
+            })
+            .collect();
+        self.albedo_tables.push((*brdf, table.clone()));
+        Ok(table)
     }
 
     /// Builds every pipeline the scenes will need before they are rendered one after the other (`figures`,
@@ -318,8 +446,10 @@ impl Renderer {
         }
     }
 
-    /// Draws the scene into the kept targets and copies it to their read-back buffer.
-    fn draw(&mut self, scene: &Scene, placed: &[PlacedMesh]) -> Result<()> {
+    /// Draws the scene into the kept targets and copies it to their read-back buffer; an environment in the
+    /// exact mode takes the samples from `first_sample` on.
+    fn draw(&mut self, scene: &Scene, placed: &[PlacedMesh], first_sample: u32) -> Result<()> {
+        let environment_albedo = self.prepare_environment(scene)?;
         let device = self.device.clone();
         let (width, height) = (scene.image.width, scene.image.height);
         let samples = vk::SampleCountFlags::from_raw(scene.image.samples);
@@ -348,11 +478,20 @@ impl Renderer {
             .collect();
         let shadow_views: Vec<[[f32; 4]; 4]> =
             shadow_faces.iter().map(|face| face.view_projection.to_cols_array_2d()).collect();
+        let mut frame = GpuFrame::new(&scene.camera, &scene.image, NEAR_PLANE);
+        if let Some(environment) = &scene.environment {
+            let (sin, cos) = environment.rotation.to_radians().sin_cos();
+            let shown = environment.visible && scene.image.view == crate::scene::View::Radiance;
+            frame.environment = [cos, sin, environment.intensity, f32::from(u8::from(shown))];
+            let (width, height) = self.environment.sampling_size;
+            frame.environment_sampling = [width, height, first_sample, SAMPLES_PER_PASS];
+        }
         let values = SceneValues {
-            frame: GpuFrame::new(&scene.camera, &scene.image, NEAR_PLANE),
+            frame,
             lights: &lights,
             objects: &objects,
             shadow_views: &shadow_views,
+            environment_albedo: &environment_albedo,
         };
 
         // What is kept from the last image where it still holds, made anew where not.
@@ -371,13 +510,16 @@ impl Renderer {
             let setting = format!("image.width x height x samples = {width} x {height} x {}", scene.image.samples);
             too_big(e, scene, setting, "render targets", bytes)
         })?;
-        let cubes_binding = (cubes.maps.view, &self.shadow_sampler);
+        let images = SceneImages {
+            shadow_cubes: (cubes.maps.view, &self.shadow_sampler),
+            environment: (&self.environment, &self.environment_sampler),
+        };
         let scene_data = match self.scene_data.take() {
             Some(mut data) => {
-                data.write(&device, &values, cubes_binding)?;
+                data.write(&device, &values, images)?;
                 data
             }
-            None => SceneData::new(&device, &self.layout, &values, cubes_binding)?,
+            None => SceneData::new(&device, &self.layout, &values, images)?,
         };
         let keys: Vec<PipelineKey> = std::iter::once(PipelineKey::background(scene))
             .chain(scene.objects.iter().zip(placed).map(|(object, p)| PipelineKey::for_object(scene, object, p)))
@@ -413,6 +555,12 @@ impl Renderer {
         self.scene_data = Some(scene_data);
         drawn
     }
+}
+
+/// Whether the scene's environment is integrated by passes of the exact mode (a term view other than the
+/// lobes' shows no environment light).
+fn integrates_exactly(scene: &Scene) -> bool {
+    scene.environment.as_ref().is_some_and(|e| e.mode == EnvironmentMode::Exact) && scene.image.view.is_radiance()
 }
 
 /// An allocation that failed for what `setting` of `scene` asked, said as such with the bytes it needed;
@@ -626,7 +774,8 @@ const SAMPLED: Access = (vk::PipelineStageFlags2::FRAGMENT_SHADER, vk::AccessFla
 const COPY_READ: Access = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_READ);
 
 /// The descriptor set layout and push constants shared by the shadow and forward passes: the frame (0),
-/// lights (1), objects (2), the shadow cubes' face matrices (3) and the shadow cubes (4); the push constants
+/// lights (1), objects (2), the shadow cubes' face matrices (3), the shadow cubes (4), the environment's map
+/// (5), its prefiltered layers (6), its sampling table (7) and the objects' albedo tables (8); the push constants
 /// name the object drawn and, in the shadow pass, the light and the cube face.
 fn scene_layout(device: &Arc<Device>) -> Result<Arc<PipelineLayout>> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
@@ -643,7 +792,24 @@ fn scene_layout(device: &Arc<Device>) -> Result<Arc<PipelineLayout>> {
         binding(2, vk::DescriptorType::STORAGE_BUFFER),
         binding(3, vk::DescriptorType::STORAGE_BUFFER),
         binding(4, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+        binding(5, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+        binding(6, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+        binding(7, vk::DescriptorType::STORAGE_BUFFER),
+        binding(8, vk::DescriptorType::STORAGE_BUFFER),
     ];
     let push = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: 12 }];
     device.create_pipeline_layout(&[&bindings], &push, "scene layout")
+}
+
+#[cfg(test)]
+mod tests {
+    /// The constants the shaders and the Rust side share by value.
+    #[test]
+    fn the_shaders_constants_match_the_rust_ones() {
+        let environment = include_str!("../../shaders/common/environment.glsl");
+        let lobes = crate::environment::prefilter::LOBE_LAYERS;
+        assert!(environment.contains(&format!("const float PREFILTERED_LOBES = {lobes}.0;")));
+        let size = super::ALBEDO_TABLE_SIZE;
+        assert!(environment.contains(&format!("const uint ALBEDO_TABLE_SIZE = {size}u;")));
+    }
 }

@@ -5,17 +5,20 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::gpu_types::{GpuFrame, GpuObject, GpuPointLight};
+use super::environment::EnvironmentTextures;
+use super::gpu_types::{GpuAlbedoEntry, GpuFrame, GpuObject, GpuPointLight};
 use crate::error::Result;
 use crate::vulkan::{Buffer, BufferDesc, Descriptor, DescriptorPool, Device, PipelineLayout, Sampler};
 
-/// The frame (uniform), lights, objects and shadow face matrices (storage) in host-visible buffers, each
+/// The frame (uniform), lights, objects, shadow face matrices and albedo tables (storage) in host-visible
+/// buffers, each
 /// made again only when a scene needs more room than it has, and the one descriptor set the passes bind.
 pub struct SceneData {
     frame: Buffer,
     lights: Buffer,
     objects: Buffer,
     shadow_views: Buffer,
+    environment_albedo: Buffer,
     pool: DescriptorPool,
     pub set: vk::DescriptorSet,
 }
@@ -26,10 +29,19 @@ pub struct SceneValues<'a> {
     pub lights: &'a [GpuPointLight],
     pub objects: &'a [GpuObject],
     pub shadow_views: &'a [[[f32; 4]; 4]],
+    /// The fast mode's albedo tables, ALBEDO_TABLE_SIZE entries an object (one unused entry otherwise).
+    pub environment_albedo: &'a [GpuAlbedoEntry],
+}
+
+/// The images the shaders read: the shadow cubes, and the environment's map, tables and layers.
+#[derive(Clone, Copy)]
+pub struct SceneImages<'a> {
+    pub shadow_cubes: (vk::ImageView, &'a Sampler),
+    pub environment: (&'a EnvironmentTextures, &'a Sampler),
 }
 
 impl SceneData {
-    /// Buffers holding `values` and a set pointing at them and at `shadow_cubes`.
+    /// Buffers holding `values` and a set pointing at them and at `images`.
     ///
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
@@ -37,15 +49,15 @@ impl SceneData {
         device: &Arc<Device>,
         layout: &PipelineLayout,
         values: &SceneValues,
-        shadow_cubes: (vk::ImageView, &Sampler),
+        images: SceneImages,
     ) -> Result<Self> {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let pool = device.create_descriptor_pool(
             1,
             &[
                 vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: 1 },
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 3 },
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 1 },
+                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 5 },
+                vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 3 },
             ],
         )?;
         let mut data = Self {
@@ -53,40 +65,49 @@ impl SceneData {
             lights: host_buffer(device, size_of_slice(values.lights), storage, "lights")?,
             objects: host_buffer(device, size_of_slice(values.objects), storage, "objects")?,
             shadow_views: host_buffer(device, size_of_slice(values.shadow_views), storage, "shadow views")?,
+            environment_albedo: host_buffer(
+                device,
+                size_of_slice(values.environment_albedo),
+                storage,
+                "environment albedo",
+            )?,
             set: vk::DescriptorSet::null(),
             pool,
         };
-        data.set = data.pool.allocate_set(layout.set_layouts[0], &data.descriptors(shadow_cubes))?;
-        data.write(device, values, shadow_cubes)?;
+        data.set = data.pool.allocate_set(layout.set_layouts[0], &data.descriptors(images))?;
+        data.write(device, values, images)?;
         Ok(data)
     }
 
     /// Writes `values`, making a buffer anew where it is too small, and points the set at the buffers and
-    /// `shadow_cubes`. No submitted work may still read the set or the buffers (renders wait for theirs).
+    /// `images`. No submitted work may still read the set or the buffers (renders wait for theirs).
     ///
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
-    pub fn write(
-        &mut self,
-        device: &Arc<Device>,
-        values: &SceneValues,
-        shadow_cubes: (vk::ImageView, &Sampler),
-    ) -> Result<()> {
+    pub fn write(&mut self, device: &Arc<Device>, values: &SceneValues, images: SceneImages) -> Result<()> {
         write_growing(device, &mut self.frame, &[values.frame], "frame")?;
         write_growing(device, &mut self.lights, values.lights, "lights")?;
         write_growing(device, &mut self.objects, values.objects, "objects")?;
         write_growing(device, &mut self.shadow_views, values.shadow_views, "shadow views")?;
-        self.pool.write_set(self.set, &self.descriptors(shadow_cubes));
+        write_growing(device, &mut self.environment_albedo, values.environment_albedo, "environment albedo")?;
+        self.pool.write_set(self.set, &self.descriptors(images));
         Ok(())
     }
 
-    fn descriptors<'a>(&'a self, (cubes, sampler): (vk::ImageView, &'a Sampler)) -> [Descriptor<'a>; 5] {
+    fn descriptors<'a>(&'a self, images: SceneImages<'a>) -> [Descriptor<'a>; 9] {
+        let (cubes, sampler) = images.shadow_cubes;
+        let (environment, map_sampler) = images.environment;
+        let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         [
             Descriptor::Buffer(vk::DescriptorType::UNIFORM_BUFFER, &self.frame),
             Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &self.lights),
             Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &self.objects),
             Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &self.shadow_views),
-            Descriptor::SampledImage(cubes, sampler, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL),
+            Descriptor::SampledImage(cubes, sampler, read_only),
+            Descriptor::SampledImage(environment.map.view, map_sampler, read_only),
+            Descriptor::SampledImage(environment.prefiltered.view, map_sampler, read_only),
+            Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &environment.sampling),
+            Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &self.environment_albedo),
         ]
     }
 }

@@ -23,6 +23,7 @@ pub struct SceneFile {
     pub materials: BTreeMap<String, MaterialSection>,
     #[serde(default, rename = "object")]
     pub objects: Vec<ObjectSection>,
+    pub environment: Option<EnvironmentSection>,
 }
 
 /// `[image]`: integers are kept signed so that 0 or -3 is reported as out of range, not as a type error.
@@ -100,6 +101,26 @@ fn one() -> f32 {
 }
 fn yes() -> bool {
     true
+}
+
+/// `[environment]`: a map or a built-in, exactly one of the two.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentSection {
+    pub map: Option<String>,
+    pub builtin: Option<String>,
+    #[serde(default = "one")]
+    pub intensity: f32,
+    #[serde(default)]
+    pub rotation: f32,
+    #[serde(default = "yes")]
+    pub visible: bool,
+    #[serde(default = "exact")]
+    pub mode: String,
+}
+
+fn exact() -> String {
+    "exact".into()
 }
 
 /// One `[material.NAME]`: every parameter of every model, each checked against the model in validation.

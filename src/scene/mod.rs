@@ -42,6 +42,79 @@ pub struct Scene {
     /// Every `[material.NAME]` as the file defines it, by name, used or not (the analysis commands study
     /// them; each object holds its own copy, which the preview edits).
     pub materials: BTreeMap<String, Brdf>,
+    /// `[environment]`: light from every direction, if the scene has it.
+    pub environment: Option<Environment>,
+}
+
+/// `[environment]`: radiance arriving from every direction, not occluded by the scene's objects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Environment {
+    pub source: EnvironmentSource,
+    /// The radiance's scale.
+    pub intensity: f32,
+    /// Degrees about +y: the map's centre, +z unrotated, turns towards +x for a positive rotation.
+    pub rotation: f32,
+    /// Whether the background shows the environment (or `image.background`).
+    pub visible: bool,
+    pub mode: EnvironmentMode,
+}
+
+/// Where an environment's radiance comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvironmentSource {
+    /// An equirectangular map (Radiance .hdr or OpenEXR), linear radiance, twice as wide as high.
+    Map(PathBuf),
+    Builtin(BuiltinEnvironment),
+}
+
+/// The environments vk-render makes itself.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BuiltinEnvironment {
+    /// Radiance 1 from every direction: the white furnace.
+    White,
+    /// An analytic sky over a ground, with a sun.
+    Sky,
+    /// Soft light panels over a dark floor.
+    Studio,
+}
+
+impl BuiltinEnvironment {
+    pub const ALL: [BuiltinEnvironment; 3] =
+        [BuiltinEnvironment::White, BuiltinEnvironment::Sky, BuiltinEnvironment::Studio];
+
+    /// The name in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            BuiltinEnvironment::White => "white",
+            BuiltinEnvironment::Sky => "sky",
+            BuiltinEnvironment::Studio => "studio",
+        }
+    }
+}
+
+/// How the environment's light is integrated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum EnvironmentMode {
+    /// Monte Carlo integration of brdf_eval against the environment, pass after pass until its standard
+    /// error is below a stated bound: for stills.
+    Exact,
+    /// Prefiltered maps and per-material albedo tables (a split sum): for the preview.
+    Fast,
+}
+
+impl EnvironmentMode {
+    /// The name in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            EnvironmentMode::Exact => "exact",
+            EnvironmentMode::Fast => "fast",
+        }
+    }
+
+    /// The mode a name gives.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [EnvironmentMode::Exact, EnvironmentMode::Fast].into_iter().find(|m| m.name() == name)
+    }
 }
 
 /// `[image]`: the output's size, sampling and output transform.
@@ -276,7 +349,7 @@ impl Scene {
         if self.objects.is_empty() {
             warnings.push(format!("{file}: the scene has no [[object]]: the image is its background alone"));
         }
-        if self.lights.is_empty() && !self.objects.is_empty() {
+        if self.lights.is_empty() && !self.objects.is_empty() && self.environment.is_none() {
             warnings.push(format!("{file}: the scene has no [[light]]: every object is black"));
         }
         let view = self.image.view;
@@ -408,6 +481,27 @@ mod tests {
             warnings.iter().any(|w| w.contains("object.0 (lambert) not Cook-Torrance: black in this view")),
             "{warnings:?}"
         );
+    }
+
+    #[test]
+    fn an_environment_takes_its_defaults_and_a_map_path_relative_to_the_scene() {
+        let scene = parse(&format!("{MINIMAL}[environment]\nmap = \"maps/sky.hdr\"\n"), &[]).unwrap();
+        assert_eq!(
+            scene.environment,
+            Some(Environment {
+                source: EnvironmentSource::Map(PathBuf::from("/scenes/maps/sky.hdr")),
+                intensity: 1.0,
+                rotation: 0.0,
+                visible: true,
+                mode: EnvironmentMode::Exact,
+            })
+        );
+        // No light but an environment: the objects are lit, nothing to warn about.
+        assert!(scene.warnings().is_empty(), "{:?}", scene.warnings());
+        let sky = parse(MINIMAL, &["environment.builtin=\"sky\"", "environment.mode=\"fast\""]).unwrap();
+        let environment = sky.environment.unwrap();
+        assert_eq!(environment.source, EnvironmentSource::Builtin(BuiltinEnvironment::Sky));
+        assert_eq!(environment.mode, EnvironmentMode::Fast);
     }
 
     #[test]

@@ -57,8 +57,10 @@ impl fmt::Display for Override {
     }
 }
 
-/// Top-level tables whose every key has a default, so an override may create them.
-const OPTIONAL_TABLES: [&str; 2] = ["image", "camera"];
+/// Top-level tables an override may create: [image] and [camera], whose every key has a default, and
+/// [environment], so that `--set environment.builtin="sky"` lights any scene (validation says what a
+/// created [environment] still lacks).
+const OPTIONAL_TABLES: [&str; 3] = ["image", "camera", "environment"];
 
 /// Applies each override to the parsed table in turn and deserializes the result.
 ///
@@ -84,7 +86,7 @@ fn set(table: &mut Table, item: &Override) -> Result<(), String> {
     while let Some(&segment) = iter.next() {
         let here = if walked.is_empty() { segment.to_string() } else { format!("{walked}.{segment}") };
         if walked.is_empty() && OPTIONAL_TABLES.contains(&segment) {
-            // [image] and [camera] may be left out of a file entirely; their keys have defaults.
+            // [image], [camera] and [environment] may be left out of a file entirely.
             current.entry(segment).or_insert_with(|| Value::Table(Table::new()));
         }
         let value = current.get_mut(segment).ok_or_else(|| format!("unknown key path: the scene has no `{here}`"))?;

@@ -6,10 +6,12 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::file::{CameraSection, ImageSection, LightSection, MaterialSection, ObjectSection, Rgb, SceneFile};
+use super::file::{
+    CameraSection, EnvironmentSection, ImageSection, LightSection, MaterialSection, ObjectSection, Rgb, SceneFile,
+};
 use super::{
-    Camera, Encoding, ImageSettings, Object, PointLight, Scene, ShadowFilter, Shape, Tonemap, View, BUNNY_PATH,
-    MAX_IMAGE_SIDE, MAX_LIGHTS,
+    BuiltinEnvironment, Camera, Encoding, Environment, EnvironmentMode, EnvironmentSource, ImageSettings, Object,
+    PointLight, Scene, ShadowFilter, Shape, Tonemap, View, BUNNY_PATH, MAX_IMAGE_SIDE, MAX_LIGHTS,
 };
 use crate::brdf::{Brdf, DiffuseModel};
 
@@ -45,7 +47,8 @@ pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
             image.view.name().to_uppercase()
         ));
     }
-    Ok(Scene { source: path.to_path_buf(), image, camera, lights, objects, materials })
+    let environment = raw.environment.as_ref().map(|e| environment(e, path)).transpose()?;
+    Ok(Scene { source: path.to_path_buf(), image, camera, lights, objects, materials, environment })
 }
 
 fn image(s: &ImageSection) -> Check<ImageSettings> {
@@ -111,6 +114,43 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
         shadow_filter,
         view,
     })
+}
+
+fn environment(s: &EnvironmentSection, scene_path: &Path) -> Check<Environment> {
+    let source =
+        match (&s.map, &s.builtin) {
+            (Some(map), None) => EnvironmentSource::Map(scene_path.parent().unwrap_or(Path::new("")).join(map)),
+            (None, Some(name)) => EnvironmentSource::Builtin(
+                BuiltinEnvironment::ALL.into_iter().find(|b| b.name() == name).ok_or_else(|| {
+                    format!(
+                        "environment.builtin = {}: unknown environment (expected \"white\", \"sky\" or \"studio\")",
+                        quoted(name)
+                    )
+                })?,
+            ),
+            (Some(map), Some(name)) => {
+                return Err(format!(
+                    "environment.builtin = {}: the environment already has map = {}: give one of the two",
+                    quoted(name),
+                    quoted(map)
+                ))
+            }
+            (None, None) => return Err(
+                "environment: has neither map = \"PATH.hdr\" (or .exr) nor builtin = \"white\", \"sky\" or \"studio\" \
+                        (a scene without [environment] takes no environment.* setting alone)"
+                    .into(),
+            ),
+        };
+    if !(s.intensity.is_finite() && s.intensity >= 0.0) {
+        return Err(format!("environment.intensity = {}: must be a finite number, at least 0", s.intensity));
+    }
+    if !s.rotation.is_finite() {
+        return Err(format!("environment.rotation = {}: must be a finite number of degrees", s.rotation));
+    }
+    let mode = EnvironmentMode::from_name(&s.mode).ok_or_else(|| {
+        format!("environment.mode = {}: unknown mode (expected \"exact\" or \"fast\")", quoted(&s.mode))
+    })?;
+    Ok(Environment { source, intensity: s.intensity, rotation: s.rotation, visible: s.visible, mode })
 }
 
 fn camera(s: &CameraSection) -> Check<Camera> {

@@ -20,11 +20,30 @@ impl Device {
     /// # Errors
     /// `Error::Vulkan` if the driver refuses the sampler.
     pub fn create_nearest_sampler(self: &Arc<Self>, name: &str) -> Result<Sampler> {
+        self.create_sampler(vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE, name)
+    }
+
+    /// A sampler for equirectangular maps: bilinear, wrapping around in u (longitude), clamped in v at the
+    /// poles.
+    ///
+    /// # Errors
+    /// `Error::Vulkan` if the driver refuses the sampler.
+    pub fn create_environment_sampler(self: &Arc<Self>, name: &str) -> Result<Sampler> {
+        self.create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::REPEAT, name)
+    }
+
+    /// A sampler of level 0 with `filter`, addressing u as `address_u` and v and w clamped to the edge.
+    fn create_sampler(
+        self: &Arc<Self>,
+        filter: vk::Filter,
+        address_u: vk::SamplerAddressMode,
+        name: &str,
+    ) -> Result<Sampler> {
         let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::NEAREST)
-            .min_filter(vk::Filter::NEAREST)
+            .mag_filter(filter)
+            .min_filter(filter)
             .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_u(address_u)
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .max_lod(0.0);

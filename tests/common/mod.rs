@@ -71,6 +71,12 @@ pub fn compare_with_reference(
     accept: impl Fn(&Comparison) -> bool,
 ) -> Comparison {
     let reference = reference::render(scene).expect("the reference renders this scene");
+    if scene.environment.is_some() {
+        // The reference's own error, which the acceptance below must leave room for.
+        let error = reference.p99_error_levels(&scene.image);
+        eprintln!("{name}: the reference's environment light: standard error at most {error:.2} levels at 99%");
+        assert!(error <= 1.0, "{name}: the reference is not exact enough to judge: {error:.2} levels");
+    }
     let expected = reference.image.to_rgb8(&scene.image);
     let band = silhouette_band(&reference.object_ids, scene.image.width, scene.image.height, 2);
     let comparison = compare(gpu, &expected, &band);

@@ -1,24 +1,45 @@
 //! An independent CPU reference: one ray per pixel centre through the same camera, exact spheres and
 //! planes, meshes through parry3d's ray queries, hard shadows by shadow rays, shading with the Rust BRDF
-//! mirror. It shares nothing with the GPU path but the scene, the BRDF mirror and the output transform,
-//! so the rasterized images can be checked against it.
+//! mirror, an environment's light by Monte Carlo (`environment.rs`). It shares nothing with the GPU path
+//! but the scene, the BRDF mirror, the environment's map and the output transform, so the rasterized
+//! images can be checked against it.
+
+mod environment;
 
 use glam::{Mat3, Vec3};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::TriMesh;
 
+use crate::environment::{EnvironmentMap, PlacedEnvironment};
 use crate::error::{Error, Result};
 use crate::mesh::place_objects;
 use crate::output::HdrImage;
 use crate::scene::{Scene, Shape};
+use environment::EnvironmentLight;
+pub use environment::DEFAULT_SAMPLES;
 
 /// The reference image and, per pixel, the index of the object seen (`None` for the background).
 pub struct ReferenceImage {
     pub image: HdrImage,
     pub object_ids: Vec<Option<usize>>,
+    /// Per pixel, the standard error of the environment light's estimate (zero without an environment).
+    pub standard_errors: Vec<Vec3>,
 }
 
 impl ReferenceImage {
+    /// The 99th percentile over pixels of the environment light's standard error (the largest channel's),
+    /// in 8-bit levels of an image made with `settings`: how exact the reference is.
+    pub fn p99_error_levels(&self, settings: &crate::scene::ImageSettings) -> f32 {
+        let mut levels: Vec<f32> = self
+            .image
+            .pixels
+            .iter()
+            .zip(&self.standard_errors)
+            .map(|(&mean, &error)| crate::output::levels_moved(mean, error, settings))
+            .collect();
+        crate::output::percentile_99(&mut levels)
+    }
+
     /// The object-id map as a picture: black background, one distinct colour per object.
     pub fn object_id_picture(&self) -> image::RgbImage {
         let colour = |id: Option<usize>| match id {
@@ -69,12 +90,27 @@ struct Hit {
     normal: Vec3,
 }
 
-/// Ray-traces the scene.
+/// Ray-traces the scene, an environment's light with [`DEFAULT_SAMPLES`] samples a pixel.
 ///
 /// # Errors
-/// `Error::Mesh` if an OBJ file cannot be loaded or holds no triangles.
+/// `Error::Mesh` if an OBJ file cannot be loaded or holds no triangles, `Error::Map` for an unusable
+/// environment map.
 pub fn render(scene: &Scene) -> Result<ReferenceImage> {
+    render_with_samples(scene, DEFAULT_SAMPLES)
+}
+
+/// As [`render`], with `samples` samples a pixel for an environment's light.
+///
+/// # Errors
+/// As [`render`].
+pub fn render_with_samples(scene: &Scene, samples: u32) -> Result<ReferenceImage> {
     let geometry = build_geometry(scene)?;
+    let map = scene.environment.as_ref().map(|e| EnvironmentMap::of(scene, e)).transpose()?;
+    let light = scene
+        .environment
+        .as_ref()
+        .zip(map.as_ref())
+        .map(|(environment, map)| EnvironmentLight::new(PlacedEnvironment { map, environment }, samples));
     let (width, height) = (scene.image.width, scene.image.height);
     let camera = &scene.camera;
     // The course's camera frame: w points backwards, u to the image's right, v up.
@@ -84,27 +120,62 @@ pub fn render(scene: &Scene) -> Result<ReferenceImage> {
     let half_height = (camera.fov_y.to_radians() * 0.5).tan();
     let half_width = half_height * width as f32 / height as f32;
 
-    let mut pixels = Vec::with_capacity((width * height) as usize);
-    let mut object_ids = Vec::with_capacity(pixels.capacity());
-    for y in 0..height {
-        for x in 0..width {
-            let sx = (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * half_width;
-            let sy = (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * half_height;
-            let direction = (sx * u + sy * v - w).normalize();
-            match nearest_hit(&geometry, camera.position, direction, f32::INFINITY) {
-                Some(hit) => {
-                    let p = camera.position + hit.t * direction;
-                    pixels.push(shade(scene, &geometry, &hit, p, -direction));
-                    object_ids.push(Some(hit.object));
+    let trace_row = |y: u32| -> Vec<(Vec3, Option<usize>, Vec3)> {
+        (0..width)
+            .map(|x| {
+                let sx = (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * half_width;
+                let sy = (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * half_height;
+                let direction = (sx * u + sy * v - w).normalize();
+                let seed = u64::from(y) << 32 | u64::from(x);
+                match nearest_hit(&geometry, camera.position, direction, f32::INFINITY) {
+                    Some(hit) => {
+                        let p = camera.position + hit.t * direction;
+                        let (radiance, error) = shade(scene, &geometry, light.as_ref(), &hit, p, -direction, seed);
+                        (radiance, Some(hit.object), error)
+                    }
+                    None => {
+                        let background = match (&light, &scene.environment) {
+                            (Some(light), Some(e)) if e.visible => light.radiance(direction),
+                            _ => scene.image.background,
+                        };
+                        (background, None, Vec3::ZERO)
+                    }
                 }
-                None => {
-                    pixels.push(scene.image.background);
-                    object_ids.push(None);
-                }
-            }
-        }
-    }
-    Ok(ReferenceImage { image: HdrImage { width, height, pixels }, object_ids })
+            })
+            .collect()
+    };
+    let rows: Vec<Vec<(Vec3, Option<usize>, Vec3)>> = if light.is_some() {
+        // Environments take many samples a pixel: the rows are shared among the cores.
+        let threads = std::thread::available_parallelism().map_or(1, usize::from);
+        let next = std::sync::atomic::AtomicU32::new(0);
+        let mut done: Vec<(u32, Vec<_>)> = std::thread::scope(|s| {
+            let workers: Vec<_> = (0..threads)
+                .map(|_| {
+                    s.spawn(|| {
+                        let mut rows = Vec::new();
+                        loop {
+                            let y = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                            if y >= height {
+                                return rows;
+                            }
+                            rows.push((y, trace_row(y)));
+                        }
+                    })
+                })
+                .collect();
+            workers.into_iter().flat_map(|worker| worker.join().unwrap_or_default()).collect()
+        });
+        done.sort_by_key(|(y, _)| *y);
+        done.into_iter().map(|(_, row)| row).collect()
+    } else {
+        (0..height).map(trace_row).collect()
+    };
+    let traced: Vec<_> = rows.into_iter().flatten().collect();
+    Ok(ReferenceImage {
+        image: HdrImage { width, height, pixels: traced.iter().map(|t| t.0).collect() },
+        object_ids: traced.iter().map(|t| t.1).collect(),
+        standard_errors: traced.iter().map(|t| t.2).collect(),
+    })
 }
 
 /// Exact spheres and planes; meshes loaded and placed in world space.
@@ -225,8 +296,17 @@ fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     Vec3::new(1.0 - v - w, v, w)
 }
 
-/// Direct lighting at `p`, seen from direction `wo`, with hard shadows.
-fn shade(scene: &Scene, geometry: &[Geometry], hit: &Hit, p: Vec3, wo: Vec3) -> Vec3 {
+/// Direct lighting at `p`, seen from direction `wo`, with hard shadows, and the environment's light (not
+/// occluded), with the standard error of its estimate.
+fn shade(
+    scene: &Scene,
+    geometry: &[Geometry],
+    environment: Option<&EnvironmentLight>,
+    hit: &Hit,
+    p: Vec3,
+    wo: Vec3,
+    seed: u64,
+) -> (Vec3, Vec3) {
     let object = &scene.objects[hit.object];
     let mut n = hit.normal;
     match geometry[hit.object] {
@@ -237,7 +317,8 @@ fn shade(scene: &Scene, geometry: &[Geometry], hit: &Hit, p: Vec3, wo: Vec3) -> 
     }
     // Shadow rays leave from just above the surface so that it does not shadow itself.
     let origin = p + n * (1e-4 * p.abs().max_element().max(1.0));
-    scene
+    let from_environment = environment.map(|light| light.reflected(&object.brdf, n, wo, seed));
+    let from_lights: Vec3 = scene
         .lights
         .iter()
         .map(|light| {
@@ -254,7 +335,11 @@ fn shade(scene: &Scene, geometry: &[Geometry], hit: &Hit, p: Vec3, wo: Vec3) -> 
             }
             object.brdf.eval(n, wi, wo) * light.color * light.power / d2 * cos
         })
-        .sum()
+        .sum();
+    match from_environment {
+        Some(estimate) => (from_lights + estimate.radiance, estimate.standard_error),
+        None => (from_lights, Vec3::ZERO),
+    }
 }
 
 #[cfg(test)]

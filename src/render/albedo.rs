@@ -16,9 +16,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::Vec3;
 
+use super::{AlbedoCell, AlbedoJob, CellIntegral, Renderer};
 use crate::brdf::Brdf;
 use crate::error::Result;
-use crate::render::{AlbedoCell, AlbedoJob, CellIntegral, Renderer};
 
 /// The error bound asked of each albedo: 1e-5, two orders below an 8-bit level.
 pub const ALBEDO_TOLERANCE: f64 = 1e-5;

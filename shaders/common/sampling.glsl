@@ -1,0 +1,126 @@
+#ifndef COMMON_SAMPLING_GLSL
+#define COMMON_SAMPLING_GLSL
+
+// Directions drawn for the exact mode's Monte Carlo integration (common/environment.glsl): the points of a
+// low-discrepancy sequence, and each model's lobe drawn in proportion to (nearly) what it reflects, with
+// the density of each draw. Mirrored, independently written, by the CPU reference (src/reference.rs).
+
+#include "common/math.glsl"
+#include "common/brdf.glsl"
+
+// Roberts 2018, "The unreasonable effectiveness of quasirandom sequences": point i of the R2 sequence is
+// fract(offset + i alpha), alpha = (1/g, 1/g^2) with g the plastic number (1.32471...). In 32-bit fixed
+// point, so that it stays exact however far the passes go (as floats, i alpha loses its fraction past a few
+// thousand samples).
+const uvec2 R2_ALPHA = uvec2(3242174889u, 2447445413u);
+
+// The 32-bit hash of Jarzynski and Olano 2020, "Hash functions for GPU rendering" (PCG): the random shift
+// of the sequence (Cranley and Patterson 1976) for each pixel, pass and strategy, so that neighbours do not
+// share their error and passes are independent estimates whose spread is the error's.
+uint pcg_hash(uint v) {
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// Point `index` of the sequence shifted for `stream` (a pass's strategy) at the pixel, in [0, 1)^2.
+vec2 sequence_point(uvec2 pixel, uint stream, uint index) {
+    uint seed = pcg_hash(pixel.x + pcg_hash(pixel.y + pcg_hash(stream)));
+    uvec2 fixed_point = uvec2(seed, pcg_hash(seed)) + index * R2_ALPHA;
+    return vec2(fixed_point >> 8u) * (1.0 / 16777216.0);
+}
+
+// A unit vector at cos_theta from `axis` and azimuth phi about it (Duff et al. 2017, "Building an
+// orthonormal basis, revisited").
+vec3 around(vec3 axis, float cos_theta, float phi) {
+    float sign_z = axis.z >= 0.0 ? 1.0 : -1.0;
+    float a = -1.0 / (sign_z + axis.z);
+    float b = axis.x * axis.y * a;
+    vec3 tangent = vec3(1.0 + sign_z * axis.x * axis.x * a, sign_z * b, -sign_z * axis.x);
+    vec3 bitangent = vec3(b, sign_z + axis.y * axis.y * a, -axis.y);
+    float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
+    return (tangent * cos(phi) + bitangent * sin(phi)) * sin_theta + axis * cos_theta;
+}
+
+// Malley's method: the cosine-weighted hemisphere about n, density cos(theta) / pi.
+vec3 cosine_sample(vec3 n, vec2 u) { return around(n, sqrt(1.0 - u.x), 2.0 * PI * u.y); }
+float cosine_pdf(vec3 n, vec3 wi) { return max(dot(n, wi), 0.0) * INV_PI; }
+
+// A cosine-power lobe about `axis` (Lafortune and Willems 1994, "Using the modified Phong reflectance model
+// for physically based rendering"): density (s + 1) / (2 pi) cos^s.
+vec3 cosine_power_sample(vec3 axis, float s, vec2 u) { return around(axis, pow(u.x, 1.0 / (s + 1.0)), 2.0 * PI * u.y); }
+float cosine_power_pdf(vec3 axis, float s, vec3 w) { return (s + 1.0) * (0.5 * INV_PI) * pow_lobe(max(dot(axis, w), 0.0), s); }
+
+// GGX's visible normals (Heitz 2018, "Sampling the GGX distribution of visible normals"): half vectors
+// in proportion to G1(wo) max(0, wo . h) D(h) / (n . wo), so that a sample's weight f cos / pdf is nearly
+// F alone, even at grazing views.
+vec3 ggx_visible_normal_sample(vec3 n, vec3 wo, float alpha, vec2 u) {
+    vec3 t = around(n, 0.0, 0.0);
+    vec3 b = cross(n, t);
+    vec3 v = vec3(dot(wo, t), dot(wo, b), dot(wo, n));
+    vec3 stretched = normalize(vec3(alpha * v.x, alpha * v.y, v.z));
+    float length_squared = stretched.x * stretched.x + stretched.y * stretched.y;
+    vec3 t1 = length_squared > 0.0 ? vec3(-stretched.y, stretched.x, 0.0) * inversesqrt(length_squared)
+                                   : vec3(1.0, 0.0, 0.0);
+    vec3 t2 = cross(stretched, t1);
+    float r = sqrt(u.x);
+    float phi = 2.0 * PI * u.y;
+    float p1 = r * cos(phi);
+    float s = 0.5 * (1.0 + stretched.z);
+    float p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    vec3 visible = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * stretched;
+    vec3 h = normalize(vec3(alpha * visible.x, alpha * visible.y, max(visible.z, 0.0)));
+    return h.x * t + h.y * b + h.z * n;
+}
+
+// Smith's G1 for GGX (Walter et al. 2007), the visible normals' normalization.
+float ggx_g1(float NoV, float alpha) {
+    float a2 = alpha * alpha;
+    return 2.0 * NoV / (NoV + sqrt(a2 + (1.0 - a2) * NoV * NoV));
+}
+
+// Whether the material has a specular lobe to draw directions from.
+bool has_lobe(Material m) {
+    switch (brdf_id(m)) {
+        case BRDF_PHONG:
+        case BRDF_BLINN_PHONG:
+            return max(m.ks.r, max(m.ks.g, m.ks.b)) > 0.0;
+        case BRDF_COOK_TORRANCE:
+            return m.metalness > 0.0;
+        default:
+            return false;
+    }
+}
+
+// A direction from the material's specular lobe: about the mirror of wo for Phong (its lobe times cos is
+// (wi . r)^s exactly), a half vector for Blinn-Phong ((n . h)^s) and Cook-Torrance (GGX's visible
+// normals), reflected.
+vec3 lobe_sample(Material m, vec3 n, vec3 wo, vec2 u) {
+    if (brdf_id(m) == BRDF_PHONG) {
+        return cosine_power_sample(mirror(n, wo), m.shininess, u);
+    }
+    vec3 h = brdf_id(m) == BRDF_BLINN_PHONG ? cosine_power_sample(n, m.shininess, u)
+                                        : ggx_visible_normal_sample(n, wo, m.roughness * m.roughness, u);
+    return mirror(h, wo);
+}
+
+// The density of lobe_sample drawing wi (a half vector's density over 4 (wo . h), the reflection's Jacobian).
+float lobe_pdf(Material m, vec3 n, vec3 wi, vec3 wo) {
+    if (brdf_id(m) == BRDF_PHONG) {
+        return cosine_power_pdf(mirror(n, wo), m.shininess, wi);
+    }
+    vec3 h = half_vector(wi, wo);
+    float WoH = dot(wo, h);
+    if (WoH <= 0.0) {
+        return 0.0;
+    }
+    if (brdf_id(m) == BRDF_BLINN_PHONG) {
+        return cosine_power_pdf(n, m.shininess, h) / (4.0 * WoH);
+    }
+    // The visible normals' density G1(wo) (wo . h) D(h) / (n . wo), over 4 (wo . h).
+    float alpha = m.roughness * m.roughness;
+    float NoV = max(dot(n, wo), 1e-6);
+    return dot(n, h) > 0.0 ? ggx_g1(NoV, alpha) * d_ggx(n, h, alpha) / (4.0 * NoV) : 0.0;
+}
+
+#endif

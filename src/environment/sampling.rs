@@ -1,0 +1,115 @@
+//! Importance sampling of an environment by its luminance: the tables the exact mode's shaders search
+//! (shaders/common/environment.glsl, `environment_sample` and `environment_pdf`).
+//!
+//! The table's cells are the map's texels (on a grid of at most MAX_SAMPLING_WIDTH across). A cell's weight
+//! is the mean luminance of the texels within one texel of it, plus a sixteenth of the brightest of them,
+//! times sin(theta) at its centre: the map is read bilinearly, so a bright texel's light reaches into its
+//! neighbours, and a cell must never be much less likely than the radiance it shows (a small weight under a
+//! bright reading is a firefly), nor much more (wasted samples). A floor of a thousandth of the mean weight
+//! keeps every direction possible.
+
+use std::f32::consts::PI;
+
+use super::EnvironmentMap;
+
+/// The widest sampling grid: finer maps share cells.
+pub const MAX_SAMPLING_WIDTH: u32 = 1024;
+
+/// Rec. 709 luminance.
+pub fn luminance(rgb: glam::Vec3) -> f32 {
+    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
+}
+
+/// The cumulative tables of the sampling grid: the marginal over rows (height + 1 values from 0 to 1) and,
+/// per row, the conditional over its columns (width + 1 values from 0 to 1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SamplingTable {
+    pub width: u32,
+    pub height: u32,
+    pub marginal: Vec<f32>,
+    pub conditional: Vec<f32>,
+}
+
+impl SamplingTable {
+    pub fn new(map: &EnvironmentMap) -> Self {
+        let width = map.width.min(MAX_SAMPLING_WIDTH);
+        let height = width / 2;
+        let mut weights = vec![0.0f64; (width * height) as usize];
+        for j in 0..height {
+            let rows = texel_span(j, height, map.height);
+            let sin_theta = (PI * (j as f32 + 0.5) / height as f32).sin();
+            for i in 0..width {
+                let columns = texel_span(i, width, map.width);
+                let (mut brightest, mut sum, mut count) = (0.0f32, 0.0f32, 0.0f32);
+                for y in rows.0.max(0)..=rows.1.min(map.height as i64 - 1) {
+                    for x in columns.0..=columns.1 {
+                        let x = x.rem_euclid(i64::from(map.width)) as u32;
+                        let texel = luminance(map.texel(x, y as u32));
+                        brightest = brightest.max(texel);
+                        sum += texel;
+                        count += 1.0;
+                    }
+                }
+                weights[(j * width + i) as usize] = f64::from((sum / count + brightest / 16.0) * sin_theta);
+            }
+        }
+        let mean = weights.iter().sum::<f64>() / weights.len() as f64;
+        let floor = if mean > 0.0 { 1e-3 * mean } else { 1.0 };
+        weights.iter_mut().for_each(|w| *w += floor);
+
+        let mut marginal = Vec::with_capacity(height as usize + 1);
+        let mut conditional = Vec::with_capacity((height * (width + 1)) as usize);
+        let row_sums: Vec<f64> = weights.chunks_exact(width as usize).map(|row| row.iter().sum()).collect();
+        let total: f64 = row_sums.iter().sum();
+        let mut running = 0.0;
+        marginal.push(0.0);
+        for (row, sum) in weights.chunks_exact(width as usize).zip(&row_sums) {
+            running += sum;
+            marginal.push((running / total) as f32);
+            let mut across = 0.0;
+            conditional.push(0.0);
+            for w in row {
+                across += w;
+                conditional.push((across / sum) as f32);
+            }
+            // Exactly 1 at the end, whatever the rounding.
+            *conditional.last_mut().unwrap_or(&mut 0.0) = 1.0;
+        }
+        *marginal.last_mut().unwrap_or(&mut 0.0) = 1.0;
+        Self { width, height, marginal, conditional }
+    }
+
+    /// The probability of cell (i, j).
+    pub fn cell_probability(&self, i: u32, j: u32) -> f32 {
+        let row = (self.marginal[j as usize + 1] - self.marginal[j as usize]).max(0.0);
+        let at = (j * (self.width + 1) + i) as usize;
+        row * (self.conditional[at + 1] - self.conditional[at]).max(0.0)
+    }
+}
+
+/// The texels of a map `texels` wide whose bilinear reading reaches into cell `cell` of a grid `cells`
+/// wide: those the cell covers and one more on each side.
+fn texel_span(cell: u32, cells: u32, texels: u32) -> (i64, i64) {
+    let first = (u64::from(cell) * u64::from(texels) / u64::from(cells)) as i64;
+    let last = ((u64::from(cell) + 1) * u64::from(texels)).div_ceil(u64::from(cells)) as i64 - 1;
+    (first - 1, last + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn probabilities_sum_to_one_and_follow_the_light() {
+        let mut map = EnvironmentMap { width: 16, height: 8, texels: vec![Vec3::splat(0.1); 128] };
+        map.texels[3 * 16 + 5] = Vec3::splat(100.0);
+        let table = SamplingTable::new(&map);
+        let total: f32 =
+            (0..8).flat_map(|j| (0..16).map(move |i| (i, j))).map(|(i, j)| table.cell_probability(i, j)).sum();
+        assert!((total - 1.0).abs() < 1e-5, "{total}");
+        // The bright texel and its neighbours, whose bilinear reading it reaches, are the likeliest cells.
+        assert!(table.cell_probability(5, 3) > 10.0 * table.cell_probability(10, 3));
+        assert!(table.cell_probability(4, 3) > 10.0 * table.cell_probability(10, 3));
+    }
+}

@@ -1,0 +1,296 @@
+//! Environment light: the white furnace against the albedo probe, the exact mode against the CPU reference
+//! under the sky and the studio, the fast mode within its measured bounds, a map lit from one known
+//! direction and turned by its rotation, and a broken sampler caught.
+
+mod common;
+
+use std::f32::consts::PI;
+use std::path::Path;
+
+use common::*;
+use glam::Vec2;
+use glam::Vec3;
+use vk_render::analysis::albedo::directional_albedos;
+use vk_render::compare::{compare, silhouette_band, Comparison};
+use vk_render::environment::{direction_of, EnvironmentMap};
+use vk_render::render::gpu_types::PixelRays;
+use vk_render::{reference, Renderer, Scene};
+
+/// Spheres of every kind of lobe under the white furnace, no light: Lambert, Oren-Nayar, a gold conductor
+/// and a half-metal Cook-Torrance (both lobes).
+const FURNACE: &str = r#"
+[image]
+width = 240
+height = 72
+samples = 1
+[camera]
+position = [0, 0, 0]
+look_at = [0, 0, 1]
+fov_y = 30
+[environment]
+builtin = "white"
+[material.lambert]
+brdf = "lambert"
+kd = [0.8, 0.5, 0.2]
+[material.matte]
+brdf = "oren-nayar"
+kd = 0.9
+sigma = 0.5
+[material.gold]
+brdf = "cook-torrance"
+kd = [1.0, 0.85, 0.57]
+f0 = [1.0, 0.85, 0.57]
+roughness = 0.4
+metalness = 1.0
+[material.half]
+brdf = "cook-torrance"
+kd = [0.2, 0.5, 0.8]
+f0 = 0.04
+roughness = 0.25
+metalness = 0.5
+[[object]]
+shape = "sphere"
+center = [-1.5, 0, 6]
+radius = 0.6
+material = "lambert"
+[[object]]
+shape = "sphere"
+center = [-0.5, 0, 6]
+radius = 0.45
+material = "matte"
+[[object]]
+shape = "sphere"
+center = [0.5, 0, 6]
+radius = 0.45
+material = "gold"
+[[object]]
+shape = "sphere"
+center = [1.5, 0, 6]
+radius = 0.45
+material = "half"
+"#;
+
+/// The pixels at least two pixels inside each sphere of `scene`, with the view angle theta_o there (the
+/// pixel centre's camera ray against the exact sphere, as both renderers shade it).
+fn sphere_pixels(scene: &Scene, object: usize) -> Vec<((u32, u32), f64)> {
+    let traced = reference::render_with_samples(&without_environment(scene), 1).unwrap();
+    let band = silhouette_band(&traced.object_ids, scene.image.width, scene.image.height, 2);
+    let rays = PixelRays::new(&scene.camera, scene.image.width, scene.image.height);
+    let vk_render::scene::Shape::Sphere { center, radius } = scene.objects[object].shape else { panic!("a sphere") };
+    let mut pixels = Vec::new();
+    for y in 0..scene.image.height {
+        for x in 0..scene.image.width {
+            let i = (y * scene.image.width + x) as usize;
+            if traced.object_ids[i] != Some(object) || band[i] {
+                continue;
+            }
+            let ray = rays.at(x as f32 + 0.5, y as f32 + 0.5);
+            let eye = scene.camera.position;
+            let oc = eye - center;
+            let b = oc.dot(ray);
+            let t = -b - (b * b - oc.length_squared() + radius * radius).sqrt();
+            let n = (eye + t * ray - center) / radius;
+            pixels.push(((x, y), f64::from(n.dot(-ray).clamp(-1.0, 1.0)).acos()));
+        }
+    }
+    pixels
+}
+
+fn without_environment(scene: &Scene) -> Scene {
+    Scene { environment: None, ..scene.clone() }
+}
+
+#[test]
+fn under_the_white_furnace_each_pixel_is_the_directional_albedo() {
+    let scene = scene_from_text("furnace", FURNACE);
+    let mut renderer = renderer();
+    let image = renderer.render(&scene).unwrap();
+    let accuracy = renderer.accuracy().expect("the exact mode states its accuracy");
+    eprintln!("furnace: {accuracy}");
+    // Four of the stated standard errors (in levels of this linear image), and float rounding.
+    let tolerance = 4.0 * accuracy.p99_levels / 255.0 + 1e-4;
+    for (object, name) in ["lambert", "matte", "gold", "half"].iter().enumerate() {
+        let pixels = sphere_pixels(&scene, object);
+        assert!(pixels.len() > 100, "{name}: {} pixels", pixels.len());
+        // Every 7th pixel, so that the albedo probe is asked a few dozen angles.
+        let chosen: Vec<_> = pixels.iter().step_by(7).collect();
+        let angles: Vec<f64> = chosen.iter().map(|(_, theta)| *theta).collect();
+        let albedos = directional_albedos(&mut renderer, &scene.objects[object].brdf, &angles, 1e-5).unwrap();
+        let mut worst = 0.0f32;
+        for (((x, y), theta), albedo) in chosen.iter().zip(&albedos) {
+            let expected = Vec3::new(albedo.rho[0] as f32, albedo.rho[1] as f32, albedo.rho[2] as f32);
+            let error = (image.at(*x, *y) - expected).abs().max_element();
+            worst = worst.max(error);
+            assert!(
+                error <= tolerance,
+                "{name} at ({x}, {y}), theta_o {:.1} degrees: {} against the albedo {expected}",
+                theta.to_degrees(),
+                image.at(*x, *y)
+            );
+        }
+        eprintln!("{name}: {} pixels within {worst:.5} of their albedo (tolerance {tolerance:.5})", chosen.len());
+        if *name == "lambert" {
+            // Cosine sampling of a Lambert surface under a constant sky weighs every sample kd exactly.
+            assert!(worst < 1e-5, "lambert: {worst}");
+        }
+    }
+}
+
+/// five-brdfs.toml (its two lights, their shadows, a floor and a sphere of each model) under an environment.
+fn lit_five_brdfs(environment: &str, mode: &str) -> Scene {
+    let overrides: Vec<vk_render::Override> = [
+        format!("environment.builtin=\"{environment}\""),
+        format!("environment.mode=\"{mode}\""),
+        "image.width=150".into(),
+        "image.height=90".into(),
+    ]
+    .iter()
+    .map(|o| o.parse().unwrap())
+    .collect();
+    Scene::load(&root().join("tests/scenes/five-brdfs.toml"), &overrides).unwrap()
+}
+
+/// The exact mode against the reference under the sky and the studio; the fast mode against the exact one,
+/// within the bounds measured on this scene (README, "Environment light"), with a little room.
+#[test]
+fn the_exact_mode_matches_the_reference_and_the_fast_mode_stays_within_its_bounds() {
+    for environment in ["sky", "studio"] {
+        let exact = lit_five_brdfs(environment, "exact");
+        let fast = lit_five_brdfs(environment, "fast");
+        let (exact_image, fast_image) = {
+            let mut renderer = renderer();
+            let image = renderer.render(&exact).unwrap().to_rgb8(&exact.image);
+            eprintln!("{environment}: {}", renderer.accuracy().unwrap());
+            (image, renderer.render(&fast).unwrap().to_rgb8(&fast.image))
+        };
+        let c = compare_with_reference(&format!("environment-{environment}"), &exact, &exact_image, acceptable);
+        eprintln!("{environment}: exact against the reference: {c}");
+        let traced = reference::render_with_samples(&without_environment(&exact), 1).unwrap();
+        let band = silhouette_band(&traced.object_ids, exact.image.width, exact.image.height, 2);
+        let c = compare(&fast_image, &exact_image, &band);
+        eprintln!("{environment}: fast against exact: {c}");
+        assert!(c.mean_abs <= 2.5 && c.p99 <= 10, "{environment}: fast against exact: {c}");
+    }
+}
+
+/// A map that is black but for a patch of radiance `radiance` around +x (map u = 3/4, v = 1/2), written as
+/// OpenEXR under `folder`; returns its path and the patch's solid angle.
+fn map_lit_from_plus_x(folder: &Path, radiance: f32) -> (std::path::PathBuf, f32) {
+    let (width, height) = (64u32, 32u32);
+    let mut map = image::Rgb32FImage::new(width, height);
+    let mut solid_angle = 0.0;
+    for y in 15..17 {
+        for x in 47..49 {
+            map.put_pixel(x, y, image::Rgb([radiance; 3]));
+            let theta = PI * (y as f32 + 0.5) / height as f32;
+            solid_angle += (2.0 * PI / width as f32) * (PI / height as f32) * theta.sin();
+        }
+    }
+    let path = folder.join("plus-x.exr");
+    map.save(&path).unwrap();
+    (path, solid_angle)
+}
+
+#[test]
+fn a_map_lights_from_its_documented_direction_and_turns_with_its_rotation() {
+    let folder = temp_dir();
+    let (map, solid_angle) = map_lit_from_plus_x(folder.path(), 50.0);
+    let text = |rotation: f32| {
+        format!(
+            "[image]\nwidth = 64\nheight = 64\nsamples = 1\nbackground = 0\n\
+             [camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 1]\nfov_y = 30\n\
+             [environment]\nmap = {:?}\nrotation = {rotation}\nvisible = false\n\
+             [material.white]\nbrdf = \"lambert\"\nkd = 1\n\
+             [[object]]\nshape = \"sphere\"\ncenter = [0, 0, 4]\nradius = 1\nmaterial = \"white\"\n",
+            map.display().to_string()
+        )
+    };
+    let brightest = |rotation: f32| {
+        let scene = scene_from_text("plus-x", &text(rotation));
+        let image = render(&scene);
+        let (mut best, mut at) = (0.0, (0, 0));
+        for y in 0..64 {
+            for x in 0..64 {
+                if image.at(x, y).x > best {
+                    (best, at) = (image.at(x, y).x, (x, y));
+                }
+            }
+        }
+        (at, best, scene, image)
+    };
+    // Unturned, the light comes from +x: the image's left (world +x is on the left looking along +z).
+    let ((x, y), _, scene, image) = brightest(0.0);
+    assert!(x < 16 && (24..40).contains(&y), "lit from +x, brightest at ({x}, {y})");
+    // A pixel a little inside the lit side.
+    let (x, y) = (8, 32);
+    let best = image.at(x, y).x;
+    // A Lambert surface of albedo 1 reflects the irradiance over pi: integrated here on a fine grid of the
+    // map read bilinearly, for the pixel's normal (near +x: about L * solid angle / pi).
+    let rays = PixelRays::new(&scene.camera, 64, 64);
+    let ray = rays.at(x as f32 + 0.5, y as f32 + 0.5);
+    let (center, eye) = (Vec3::new(0.0, 0.0, 4.0), scene.camera.position);
+    let b = (eye - center).dot(ray);
+    let t = -b - (b * b - (eye - center).length_squared() + 1.0).sqrt();
+    let n = eye + t * ray - center;
+    let decoded = EnvironmentMap::of(&scene, scene.environment.as_ref().unwrap()).unwrap();
+    let (nu, nv) = (2048, 1024);
+    let mut irradiance = 0.0f64;
+    for j in 0..nv {
+        for i in 0..nu {
+            let uv = Vec2::new((i as f32 + 0.5) / nu as f32, (j as f32 + 0.5) / nv as f32);
+            let d = direction_of(uv);
+            let cos = n.dot(d);
+            if cos > 0.0 {
+                let solid_angle = (2.0 * PI / nu as f32) * (PI / nv as f32) * (PI * uv.y).sin();
+                irradiance += f64::from(decoded.bilinear(uv).x * cos * solid_angle);
+            }
+        }
+    }
+    let expected = irradiance as f32 / PI;
+    let traced = reference::render(&scene).unwrap();
+    eprintln!(
+        "lit from +x: {best} against {expected} (L * solid angle / pi = {}), the reference {}",
+        50.0 * solid_angle / PI,
+        traced.image.at(x, y)
+    );
+    assert!((best - expected).abs() < 0.005 * expected, "{best} against {expected}");
+    let band = silhouette_band(&traced.object_ids, 64, 64, 2);
+    let c = compare(&image.to_rgb8(&scene.image), &traced.image.to_rgb8(&scene.image), &band);
+    assert!(acceptable(&c), "lit from +x against the reference: {c}");
+    // Turned 90 degrees about +y, +z's light goes to +x and +x's to -z: from behind the camera, the centre.
+    let ((x, y), ..) = brightest(90.0);
+    assert!((24..40).contains(&x) && (24..40).contains(&y), "turned 90 degrees, brightest at ({x}, {y})");
+    // Turned 180 degrees, from -x: the image's right.
+    let ((x, _), ..) = brightest(180.0);
+    assert!(x > 48, "turned 180 degrees, brightest at x = {x}");
+}
+
+#[test]
+fn a_wrong_density_in_the_sampler_fails_the_reference() {
+    // The environment's density without its sin(theta): directions near the poles weighed wrongly.
+    let mut renderer = mutant_renderer(
+        "common/environment.glsl",
+        "float sin_theta = max(sqrt(max(1.0 - m.y * m.y, 0.0)), 1e-6);",
+        "float sin_theta = 1.0;",
+    );
+    let scene = lit_five_brdfs("sky", "exact");
+    let gpu = renderer.render(&scene).unwrap().to_rgb8(&scene.image);
+    let traced = reference::render(&scene).unwrap();
+    let band = silhouette_band(&traced.object_ids, scene.image.width, scene.image.height, 2);
+    let c: Comparison = compare(&gpu, &traced.image.to_rgb8(&scene.image), &band);
+    eprintln!("without sin(theta): {c}");
+    assert!(!acceptable(&c), "the mutant passed: {c}");
+}
+
+#[test]
+fn a_renderer_keeps_one_environment_per_scene_and_reloads_on_change() {
+    // Two scenes with different built-ins in turn on one renderer: each image is its own.
+    let white = scene_from_text("furnace", FURNACE);
+    let mut renderer: std::sync::MutexGuard<'_, Renderer> = renderer();
+    let first = renderer.render(&white).unwrap();
+    let sky = Scene { environment: lit_five_brdfs("sky", "exact").environment, ..white.clone() };
+    let under_sky = renderer.render(&sky).unwrap();
+    let again = renderer.render(&white).unwrap();
+    assert_ne!(first.pixels, under_sky.pixels);
+    assert_eq!(first.pixels, again.pixels, "the same scene on the same device gives the same image");
+}
