@@ -771,3 +771,18 @@ fn a_sweep_turns_an_environment() {
     let tile = |value: &str| image::open(folder.path().join(format!("turn-{value}.png"))).unwrap().into_rgb8();
     assert_ne!(tile("0"), tile("180"), "turning the sky moved nothing");
 }
+
+#[test]
+fn figures_take_an_environment() {
+    let folder = temp_dir();
+    let sky = "environment.builtin=\"sky\"";
+    let args = ["figures", "-o", folder.path().to_str().unwrap(), "--set", sky, "--environment-mode", "fast"];
+    let output = vk_render(&[&args[..], &["--width", "48", "--height", "32"]].concat());
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    // Figure 1's grey sphere under the sky is no longer the point light's alone.
+    let lit = image::open(folder.path().join("fig1-lambert.png")).unwrap().into_rgb8();
+    let plain = folder.path().join("plain");
+    let output = vk_render(&["figures", "-o", plain.to_str().unwrap(), "--width", "48", "--height", "32"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert_ne!(lit, image::open(plain.join("fig1-lambert.png")).unwrap().into_rgb8());
+}

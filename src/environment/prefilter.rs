@@ -6,8 +6,8 @@
 //! pi, what a Lambert surface reflects per unit albedo; the course's Phong lobe, (wo . r)^s about the
 //! mirror direction, is exactly such a lobe (cut by the horizon); Blinn-Phong's and GGX's are close to one
 //! (shaders/common/environment.glsl says which exponent each takes). Each texel is a direct sum over the
-//! texels of a level of the map's box-filtered pyramid fine enough for the lobe (a third of its width a
-//! texel), within two and a half widths of its axis (where cos^s has fallen to 4%), divided by the sum of the same weights: a constant map stays
+//! texels of a level of the map's box-filtered pyramid fine enough for the lobe (half its width a
+//! texel, and at most 2.8 degrees), within two and a half widths of its axis (where cos^s has fallen to 4%), divided by the sum of the same weights: a constant map stays
 //! exactly constant, and no light is lost or made however small a bright source is (a sun).
 
 use std::f32::consts::PI;
@@ -25,6 +25,9 @@ pub const LOBE_LAYERS: u32 = 11;
 /// All layers: the lobes', then the map itself (box-filtered to the layer size), for lobes sharper than the
 /// last lobe layer's.
 pub const LAYERS: u32 = LOBE_LAYERS + 1;
+
+/// The largest texel a layer is summed from: 2.8 degrees (a pyramid level 64 texels high).
+const MAX_SOURCE_TEXEL: f32 = PI / 64.0;
 
 /// Every layer, LAYER_WIDTH x LAYER_WIDTH / 2 texels each, one after the other.
 pub fn prefiltered_layers(map: &EnvironmentMap) -> Vec<Vec3> {
@@ -50,7 +53,10 @@ pub fn prefiltered_layers(map: &EnvironmentMap) -> Vec<Vec3> {
 fn lobe_layer(pyramid: &[EnvironmentMap], exponent: f32, width: u32) -> EnvironmentMap {
     // cos^s(a) is close to exp(-s a^2 / 2): a Gaussian of width 1 / sqrt(s).
     let lobe_width = 1.0 / exponent.sqrt();
-    let source = pyramid.iter().rev().find(|level| PI / level.height as f32 <= lobe_width / 3.0).unwrap_or(&pyramid[0]);
+    // Texels of half the lobe's width, and never over MAX_SOURCE_TEXEL: a bright source averaged into a
+    // coarser texel would move to its centre, and the cosine lobes see where the light comes from.
+    let texel_wanted = (lobe_width / 2.0).min(MAX_SOURCE_TEXEL);
+    let source = pyramid.iter().rev().find(|level| PI / level.height as f32 <= texel_wanted).unwrap_or(&pyramid[0]);
     let (w, h) = (i64::from(source.width), i64::from(source.height));
     let texel = PI / h as f32;
     let reach = (2.5 * lobe_width + texel).min(PI);

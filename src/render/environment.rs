@@ -31,8 +31,8 @@ pub struct EnvironmentTextures {
     pub sampling_size: (u32, u32),
     /// The fast mode's layers, or a placeholder until a fast render needs them.
     pub prefiltered: Image,
-    pub has_prefiltered: bool,
-    /// The map, kept to prefilter it when the fast mode first needs it.
+    has_prefiltered: bool,
+    /// The map, kept to prefilter it if the fast mode needs it (dropped once it is).
     kept_map: Option<EnvironmentMap>,
 }
 
@@ -71,12 +71,19 @@ impl EnvironmentTextures {
         if self.has_prefiltered {
             return Ok(());
         }
-        let Some(map) = &self.kept_map else { return Ok(()) };
-        let layers = prefiltered_layers(map);
-        self.prefiltered =
-            upload_layers(device, LAYER_WIDTH, LAYER_WIDTH / 2, LAYERS, &layers, "environment prefiltered")?;
-        self.has_prefiltered = true;
-        Ok(())
+        let Some(map) = self.kept_map.take() else { return Ok(()) };
+        let layers = prefiltered_layers(&map);
+        match upload_layers(device, LAYER_WIDTH, LAYER_WIDTH / 2, LAYERS, &layers, "environment prefiltered") {
+            Ok(image) => {
+                self.prefiltered = image;
+                self.has_prefiltered = true;
+                Ok(())
+            }
+            Err(e) => {
+                self.kept_map = Some(map);
+                Err(e)
+            }
+        }
     }
 }
 
