@@ -70,8 +70,13 @@ fn main() -> vk_render::Result<()> {
     })?;
     println!("  {:<54} {:>10.1} ms", "sweep image: fig1, grey kd varied, shadows on", ms(t));
     // The preview orbiting: a new camera each frame, the image encoded to 8-bit texels (not presented).
-    for (name, file) in [("fig1", "fig1-lambert.toml"), ("bunny", "fig5-golden-bunny.toml")] {
-        let mut frame = scene(file, &[])?;
+    let studio = ["environment.builtin=\"studio\"", "environment.mode=\"fast\""];
+    for (name, file, overrides) in [
+        ("fig1", "fig1-lambert.toml", &[][..]),
+        ("bunny", "fig5-golden-bunny.toml", &[][..]),
+        ("bunny + studio", "fig5-golden-bunny.toml", &studio[..]),
+    ] {
+        let mut frame = scene(file, &strings(overrides))?;
         let mut controls = Controls::new(&frame);
         let mut texels = vec![0u8; (frame.image.width * frame.image.height * 4) as usize];
         let t = time(15, || {
