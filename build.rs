@@ -132,19 +132,29 @@ fn compile_shaders() {
         if !["vert", "frag", "comp"].iter().any(|stage| relative.ends_with(&format!(".{stage}"))) {
             continue;
         }
-        let spirv = out.join(format!("{relative}.spv"));
-        std::fs::create_dir_all(spirv.parent().expect("a file has a folder")).expect("OUT_DIR is writable");
-        let status = Command::new(&glslc)
-            .current_dir(&root)
-            .args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", ".", "-o"])
-            .arg(&spirv)
-            .arg(&relative)
-            .status()
-            .unwrap_or_else(|e| {
+        // An entry file may name variants, each compiled again with its macro defined: `// variant: NAME`
+        // gives the entry `FILE+NAME` (shaders/forward.frag: its environment's light apart, so that scenes
+        // without one do not make lavapipe read the code).
+        let text = std::fs::read_to_string(file).expect("shaders/ is readable");
+        let variants = text.lines().filter_map(|line| line.strip_prefix("// variant: ")).map(str::trim);
+        for variant in std::iter::once(None).chain(variants.map(Some)) {
+            let entry = match variant {
+                Some(name) => format!("{relative}+{name}"),
+                None => relative.clone(),
+            };
+            let spirv = out.join(format!("{entry}.spv"));
+            std::fs::create_dir_all(spirv.parent().expect("a file has a folder")).expect("OUT_DIR is writable");
+            let mut command = Command::new(&glslc);
+            command.current_dir(&root).args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", "."]);
+            if let Some(name) = variant {
+                command.arg(format!("-D{name}"));
+            }
+            let status = command.arg("-o").arg(&spirv).arg(&relative).status().unwrap_or_else(|e| {
                 panic!("cannot run {glslc} to compile shaders/{relative} ({e}): install the Debian package glslc (`make setup`)")
             });
-        assert!(status.success(), "glslc could not compile shaders/{relative} (its errors are above)");
-        table.push_str(&format!("    ({relative:?}, include_bytes!({:?})),\n", spirv.display().to_string()));
+            assert!(status.success(), "glslc could not compile shaders/{entry} (its errors are above)");
+            table.push_str(&format!("    ({entry:?}, include_bytes!({:?})),\n", spirv.display().to_string()));
+        }
     }
     table.push_str("]\n");
     std::fs::write(out.with_extension("rs"), table).expect("OUT_DIR is writable");

@@ -1,4 +1,5 @@
 #version 460
+// variant: WITH_ENVIRONMENT
 
 // The forward pass of meshes and planes: each fragment shaded at the interpolated point and normal.
 // Spheres have their own pass, forward_sphere.frag.

@@ -1,4 +1,5 @@
 #version 460
+// variant: WITH_ENVIRONMENT
 
 // The forward pass of spheres. The bounding mesh's fragments cover the samples whose camera rays meet the
 // exact sphere (gl_SampleMask) and shade the point where the pixel centre's ray meets it, as the ray tracer

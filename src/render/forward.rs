@@ -19,12 +19,38 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// The forward pass's compiled shaders, and its pipelines, each built on first use.
 pub struct ForwardPass {
-    meshes: (CompiledShader, CompiledShader),
-    spheres: (CompiledShader, CompiledShader),
-    background: (CompiledShader, CompiledShader),
+    meshes: Stages,
+    spheres: Stages,
+    background: Stages,
     layout: Arc<PipelineLayout>,
     pipelines: HashMap<PipelineKey, Pipeline>,
     device: Arc<Device>,
+}
+
+/// A pass's vertex shader and its fragment shader, without and with the environment's light (the entry
+/// file's WITH_ENVIRONMENT variant: common/shading.glsl says why apart).
+struct Stages {
+    vertex: CompiledShader,
+    fragment: CompiledShader,
+    fragment_with_environment: CompiledShader,
+}
+
+impl Stages {
+    fn new(
+        compiler: &ShaderCompiler,
+        (vertex, fragment, with_environment): (&'static str, &'static str, &'static str),
+    ) -> Result<Self> {
+        Ok(Self {
+            vertex: CompiledShader::new(compiler, vertex)?,
+            fragment: CompiledShader::new(compiler, fragment)?,
+            fragment_with_environment: CompiledShader::new(compiler, with_environment)?,
+        })
+    }
+
+    /// The vertex and fragment shaders, the latter with the environment's light or not.
+    fn pick(&self, environment: bool) -> (&CompiledShader, &CompiledShader) {
+        (&self.vertex, if environment { &self.fragment_with_environment } else { &self.fragment })
+    }
 }
 
 /// What a forward pipeline is built for.
@@ -89,15 +115,15 @@ impl ForwardPass {
     /// `Error::Shader` if a shader does not compile.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler, layout: &Arc<PipelineLayout>) -> Result<Self> {
         Ok(Self {
-            meshes: (CompiledShader::new(compiler, "forward.vert")?, CompiledShader::new(compiler, "forward.frag")?),
-            spheres: (
-                CompiledShader::new(compiler, "forward_sphere.vert")?,
-                CompiledShader::new(compiler, "forward_sphere.frag")?,
-            ),
-            background: (
-                CompiledShader::new(compiler, "background.vert")?,
-                CompiledShader::new(compiler, "background.frag")?,
-            ),
+            meshes: Stages::new(compiler, ("forward.vert", "forward.frag", "forward.frag+WITH_ENVIRONMENT"))?,
+            spheres: Stages::new(
+                compiler,
+                ("forward_sphere.vert", "forward_sphere.frag", "forward_sphere.frag+WITH_ENVIRONMENT"),
+            )?,
+            background: Stages::new(
+                compiler,
+                ("background.vert", "background.frag", "background.frag+WITH_ENVIRONMENT"),
+            )?,
             layout: layout.clone(),
             pipelines: HashMap::new(),
             device: device.clone(),
@@ -122,11 +148,12 @@ impl ForwardPass {
     fn build(&self, key: &PipelineKey) -> Result<Pipeline> {
         match *key {
             PipelineKey::Objects { samples, exact_sphere, constants } => {
-                let (vertex, fragment) = if exact_sphere { &self.spheres } else { &self.meshes };
-                build_pipeline(&self.device, &self.layout, (vertex, fragment), (COLOR_FORMAT, samples), &constants)
+                let stages = if exact_sphere { &self.spheres } else { &self.meshes };
+                let shaders = stages.pick(constants[5] != 0);
+                build_pipeline(&self.device, &self.layout, shaders, (COLOR_FORMAT, samples), &constants)
             }
             PipelineKey::Background { samples, environment } => {
-                let (vertex, fragment) = &self.background;
+                let (vertex, fragment) = self.background.pick(environment);
                 let vertex_module = self.device.create_shader_module(&vertex.spirv, vertex.name)?;
                 let fragment_module = self.device.create_shader_module(&fragment.spirv, fragment.name)?;
                 let desc = GraphicsPipelineDesc {

@@ -279,7 +279,7 @@ mod tests {
     #[test]
     fn field_offsets_match_the_glsl_layouts() {
         let compiler = ShaderCompiler::new(ShaderSources::default()).unwrap();
-        let layouts = spirv_layouts(&compiler.compile("forward_sphere.frag").unwrap());
+        let layouts = spirv_layouts(&compiler.compile("forward_sphere.frag+WITH_ENVIRONMENT").unwrap());
         assert_offsets(
             &layouts,
             "Frame",

@@ -118,7 +118,9 @@ impl ShaderCompiler {
         Ok(Self { compiler, sources: Arc::new(sources) })
     }
 
-    /// The SPIR-V of one entry file (its stage from the extension: .vert, .frag, .comp).
+    /// The SPIR-V of one entry file (its stage from the extension: .vert, .frag, .comp), or of one of its
+    /// variants, `FILE+MACRO`: the file compiled with MACRO defined (the file names it in a line
+    /// `// variant: MACRO`).
     ///
     /// # Errors
     /// `Error::Shader` naming the file, with shaderc's log (file:line: error: ...).
@@ -133,8 +135,12 @@ impl ShaderCompiler {
         }
     }
 
-    fn compile_glsl(&self, compiler: &shaderc::Compiler, path: &str) -> Result<Vec<u32>> {
-        let error = |log: String| Error::Shader { path: path.to_string(), log };
+    fn compile_glsl(&self, compiler: &shaderc::Compiler, entry: &str) -> Result<Vec<u32>> {
+        let error = |log: String| Error::Shader { path: entry.to_string(), log };
+        let (path, variant) = match entry.split_once('+') {
+            Some((path, variant)) => (path, Some(variant)),
+            None => (entry, None),
+        };
         let stage = match path.rsplit('.').next() {
             Some("vert") => shaderc::ShaderKind::Vertex,
             Some("frag") => shaderc::ShaderKind::Fragment,
@@ -145,6 +151,9 @@ impl ShaderCompiler {
         let mut options =
             shaderc::CompileOptions::new().map_err(|e| error(format!("shaderc options could not be made: {e}")))?;
         options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
+        if let Some(variant) = variant {
+            options.add_macro_definition(variant, None);
+        }
         // SPIR-V 1.5: at 1.6 glslang declares workgroup sizes with LocalSizeId, which needs the maintenance4
         // feature, and the validation layer of Debian 12 reports it even when the feature is enabled.
         options.set_target_spirv(shaderc::SpirvVersion::V1_5);
