@@ -8,6 +8,8 @@ use std::path::Path;
 pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 /// The most an OBJ file may hold: 4 GiB (glmark2's bunny is 3 MiB).
 pub const MAX_MESH_BYTES: u64 = 4 << 30;
+/// The most an image a user names may hold (an environment map, `check`'s image): 1 GiB.
+pub const MAX_IMAGE_BYTES: u64 = 1 << 30;
 /// The most a shader source may hold: 1 MiB.
 pub const MAX_SHADER_BYTES: u64 = 1 << 20;
 

@@ -16,6 +16,7 @@ pub mod figures;
 pub mod files;
 pub mod mesh;
 pub mod output;
+pub mod parallel;
 #[cfg(feature = "preview")]
 pub mod preview;
 pub mod reference;

@@ -85,15 +85,19 @@ fn sphere_pixels(scene: &Scene, object: usize) -> Vec<((u32, u32), f64)> {
                 continue;
             }
             let ray = rays.at(x as f32 + 0.5, y as f32 + 0.5);
-            let eye = scene.camera.position;
-            let oc = eye - center;
-            let b = oc.dot(ray);
-            let t = -b - (b * b - oc.length_squared() + radius * radius).sqrt();
-            let n = (eye + t * ray - center) / radius;
+            let n = sphere_normal(scene.camera.position, ray, center, radius);
             pixels.push(((x, y), f64::from(n.dot(-ray).clamp(-1.0, 1.0)).acos()));
         }
     }
     pixels
+}
+
+/// The unit normal where the ray from `eye` along unit `ray` first meets the sphere (which it must).
+fn sphere_normal(eye: Vec3, ray: Vec3, center: Vec3, radius: f32) -> Vec3 {
+    let oc = eye - center;
+    let b = oc.dot(ray);
+    let t = -b - (b * b - oc.length_squared() + radius * radius).sqrt();
+    (eye + t * ray - center) / radius
 }
 
 fn without_environment(scene: &Scene) -> Scene {
@@ -227,11 +231,8 @@ fn a_map_lights_from_its_documented_direction_and_turns_with_its_rotation() {
     // A Lambert surface of albedo 1 reflects the irradiance over pi: integrated here on a fine grid of the
     // map read bilinearly, for the pixel's normal (near +x: about L * solid angle / pi).
     let rays = PixelRays::new(&scene.camera, 64, 64);
-    let ray = rays.at(x as f32 + 0.5, y as f32 + 0.5);
-    let (center, eye) = (Vec3::new(0.0, 0.0, 4.0), scene.camera.position);
-    let b = (eye - center).dot(ray);
-    let t = -b - (b * b - (eye - center).length_squared() + 1.0).sqrt();
-    let n = eye + t * ray - center;
+    let n =
+        sphere_normal(scene.camera.position, rays.at(x as f32 + 0.5, y as f32 + 0.5), Vec3::new(0.0, 0.0, 4.0), 1.0);
     let decoded = EnvironmentMap::of(&scene, scene.environment.as_ref().unwrap()).unwrap();
     let (nu, nv) = (2048, 1024);
     let mut irradiance = 0.0f64;

@@ -105,25 +105,27 @@ vec3 environment_exact(Material m, vec3 n, vec3 wo) {
     vec3 shares = vec3(cosine_count, lobe_count, environment_count) / float(count);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
     uint pass_index = frame.environment_sampling.z / count;
+    uint counts[3] = uint[](cosine_count, lobe_count, environment_count);
     vec3 sum = vec3(0.0);
-    for (uint k = 0u; k < count; ++k) {
-        uint strategy = k < cosine_count ? 0u : (k < cosine_count + lobe_count ? 1u : 2u);
-        uint first = strategy == 0u ? 0u : (strategy == 1u ? cosine_count : cosine_count + lobe_count);
-        vec2 u = sequence_point(pixel, 3u * pass_index + strategy, k - first);
-        vec3 wi = strategy == 0u ? cosine_sample(n, u) : (strategy == 1u ? lobe_sample(m, n, wo, u) : environment_sample(u));
-        float NoL = dot(n, wi);
-        if (NoL <= 0.0) {
-            continue;
-        }
-        float pdf = shares.x * cosine_pdf(n, wi);
-        if (lobe_count > 0u) {
-            pdf += shares.y * lobe_pdf(m, n, wi, wo);
-        }
-        if (environment_count > 0u) {
-            pdf += shares.z * environment_pdf(wi);
-        }
-        if (pdf > 0.0) {
-            sum += environment_radiance(wi) * view_brdf(m, n, wi, wo) * (NoL / pdf);
+    for (uint strategy = 0u; strategy < 3u; ++strategy) {
+        for (uint k = 0u; k < counts[strategy]; ++k) {
+            vec2 u = sequence_point(pixel, 3u * pass_index + strategy, k);
+            vec3 wi = strategy == 0u ? cosine_sample(n, u)
+                                     : (strategy == 1u ? lobe_sample(m, n, wo, u) : environment_sample(u));
+            float NoL = dot(n, wi);
+            if (NoL <= 0.0) {
+                continue;
+            }
+            float pdf = shares.x * cosine_pdf(n, wi);
+            if (lobe_count > 0u) {
+                pdf += shares.y * lobe_pdf(m, n, wi, wo);
+            }
+            if (environment_count > 0u) {
+                pdf += shares.z * environment_pdf(wi);
+            }
+            if (pdf > 0.0) {
+                sum += environment_radiance(wi) * view_brdf(m, n, wi, wo) * (NoL / pdf);
+            }
         }
     }
     return sum / float(count);

@@ -227,7 +227,7 @@ fn load_scene(name: &str, overrides: &[Override]) -> anyhow::Result<Scene> {
 
 /// Your image: PNG or JPEG, 8-bit RGB (alpha, if any, left out); grey-scale and 16-bit images are refused.
 fn read_image(path: &std::path::Path) -> anyhow::Result<image::RgbImage> {
-    let bytes = vk_render::files::read_regular(path, "image", 1 << 30)
+    let bytes = vk_render::files::read_regular(path, "image", vk_render::files::MAX_IMAGE_BYTES)
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let image = image::load_from_memory(&bytes)
         .map_err(|e| anyhow::anyhow!("{}: not a PNG or JPEG image vk-render can read: {e}", path.display()))?;

@@ -19,9 +19,6 @@ use glam::{Vec2, Vec3};
 use crate::error::{Error, Result};
 use crate::scene::{Environment, EnvironmentSource, Scene};
 
-/// The most a map file may hold: 1 GiB.
-pub const MAX_MAP_BYTES: u64 = 1 << 30;
-
 /// An equirectangular radiance map, twice as wide as high, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvironmentMap {
@@ -48,7 +45,7 @@ impl EnvironmentMap {
     }
 
     fn read(path: &Path) -> std::result::Result<Self, String> {
-        let bytes = crate::files::read_regular(path, "environment map", MAX_MAP_BYTES)?;
+        let bytes = crate::files::read_regular(path, "environment map", crate::files::MAX_IMAGE_BYTES)?;
         let decoded = image::load_from_memory(&bytes)
             .map_err(|e| format!("not a map vk-render can read (Radiance .hdr or OpenEXR): {e}"))?
             .into_rgb32f();
@@ -66,15 +63,14 @@ impl EnvironmentMap {
         Ok(Self { width, height, texels })
     }
 
-    /// A map of `width` x `width / 2` texels, each `radiance` of its centre's direction.
-    pub fn from_fn(width: u32, radiance: impl Fn(Vec3) -> Vec3) -> Self {
+    /// A map of `width` x `width / 2` texels, each `radiance` of its centre's direction, its rows made on
+    /// all the cores.
+    pub fn from_fn(width: u32, radiance: impl Fn(Vec3) -> Vec3 + Sync) -> Self {
         let height = width / 2;
-        let texels = (0..height)
-            .flat_map(|y| (0..width).map(move |x| (x, y)))
-            .map(|(x, y)| {
-                radiance(direction_of(Vec2::new((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32)))
-            })
-            .collect();
+        let texels = crate::parallel::rows(height, |y| {
+            let v = (y as f32 + 0.5) / height as f32;
+            (0..width).map(|x| radiance(direction_of(Vec2::new((x as f32 + 0.5) / width as f32, v)))).collect()
+        });
         Self { width, height, texels }
     }
 

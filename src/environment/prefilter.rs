@@ -12,9 +12,9 @@
 
 use std::f32::consts::PI;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
-use super::{direction_of, uv_of, EnvironmentMap};
+use super::{uv_of, EnvironmentMap};
 
 /// The side of every layer: 256 x 128 texels, 1.4 degrees each.
 pub const LAYER_WIDTH: u32 = 256;
@@ -69,7 +69,7 @@ fn lobe_layer(pyramid: &[EnvironmentMap], exponent: f32, width: u32) -> Environm
         })
         .collect();
     let directions = EnvironmentMap::from_fn(source.width, |d| d).texels;
-    from_fn_in_parallel(width, |r| {
+    EnvironmentMap::from_fn(width, |r| {
         let theta_r = r.y.clamp(-1.0, 1.0).acos();
         let phi_r = r.x.atan2(r.z);
         let first = (((theta_r - reach) / texel - 0.5).floor() as i64).max(0);
@@ -99,33 +99,6 @@ fn lobe_layer(pyramid: &[EnvironmentMap], exponent: f32, width: u32) -> Environm
             source.bilinear(uv_of(r))
         }
     })
-}
-
-/// As [`EnvironmentMap::from_fn`], the rows shared among the cores.
-fn from_fn_in_parallel(width: u32, radiance: impl Fn(Vec3) -> Vec3 + Sync) -> EnvironmentMap {
-    let height = width / 2;
-    let threads = std::thread::available_parallelism().map_or(1, usize::from).min(height as usize);
-    let rows_each = (height as usize).div_ceil(threads);
-    let texels = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|t| {
-                let radiance = &radiance;
-                scope.spawn(move || {
-                    let rows = (t * rows_each) as u32..(((t + 1) * rows_each) as u32).min(height);
-                    rows.flat_map(|y| (0..width).map(move |x| (x, y)))
-                        .map(|(x, y)| {
-                            radiance(direction_of(Vec2::new(
-                                (x as f32 + 0.5) / width as f32,
-                                (y as f32 + 0.5) / height as f32,
-                            )))
-                        })
-                        .collect::<Vec<Vec3>>()
-                })
-            })
-            .collect();
-        workers.into_iter().flat_map(|worker| worker.join().unwrap_or_default()).collect()
-    });
-    EnvironmentMap { width, height, texels }
 }
 
 /// `map` read bilinearly at the texel centres of a map `width` across.

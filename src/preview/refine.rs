@@ -13,6 +13,8 @@ use crate::Renderer;
 pub struct Refinement {
     exact: Scene,
     passes: Passes,
+    /// Whether the passes are enough, as of the last one added (the check reads every pixel: once a pass).
+    done: bool,
 }
 
 /// What a frame showed.
@@ -65,22 +67,23 @@ pub fn render_frame(
     let current = refinement.as_mut().filter(|r| r.exact == exact);
     let Some(current) = current else {
         renderer.render_texels(&in_mode(scene, environment, EnvironmentMode::Fast), order, texels)?;
-        *refinement = Some(Refinement { passes: Passes::new(scene.image.width, scene.image.height), exact });
+        let passes = Passes::new(scene.image.width, scene.image.height);
+        *refinement = Some(Refinement { passes, exact, done: false });
         return Ok(Shown::Fast);
     };
-    let done = current.passes.done(&current.exact.image);
-    if !done {
+    if !current.done {
         renderer.refine(&current.exact, &mut current.passes)?;
+        current.done = current.passes.done(&current.exact.image);
     }
     if current.passes.count < MIN_PASSES {
         renderer.render_texels(&in_mode(scene, environment, EnvironmentMode::Fast), order, texels)?;
         return Ok(Shown::Fast);
     }
     encode_texels(&current.passes.mean_bytes(), &current.exact.image, order, texels);
-    Ok(Shown::Exact { samples: current.passes.count * crate::render::exact::SAMPLES_PER_PASS, done })
+    Ok(Shown::Exact { samples: current.passes.samples(), done: current.done })
 }
 
 /// Whether the image shown still refines: frames should follow without waiting for an event.
 pub fn refining(refinement: &Option<Refinement>) -> bool {
-    refinement.as_ref().is_some_and(|r| !r.passes.done(&r.exact.image))
+    refinement.as_ref().is_some_and(|r| !r.done)
 }

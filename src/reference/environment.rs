@@ -8,7 +8,8 @@ use std::f64::consts::PI;
 
 use glam::{DVec3, Vec2, Vec3};
 
-use crate::brdf::Brdf;
+use crate::brdf::{mirror, Brdf};
+use crate::environment::sampling::luminance;
 use crate::environment::{direction_of, uv_of, EnvironmentMap, PlacedEnvironment};
 
 /// Samples a pixel the reference takes by default (in BATCHES batches, each stratified apart).
@@ -117,11 +118,6 @@ fn cosine_sample(n: Vec3, u: Vec2) -> Vec3 {
     around(n, (1.0 - u.x).sqrt(), 2.0 * std::f32::consts::PI * u.y)
 }
 
-/// The mirror of `w` about unit `axis`.
-fn mirror(axis: Vec3, w: Vec3) -> Vec3 {
-    2.0 * axis.dot(w) * axis - w
-}
-
 /// A material's specular lobe as a density to draw from: a cosine power about the mirror of wo (Phong),
 /// or of half vectors about n (Blinn-Phong's cosine power, GGX's D (n . h)).
 enum Lobe {
@@ -195,9 +191,9 @@ struct TexelTable {
 impl TexelTable {
     fn new(map: &EnvironmentMap) -> Self {
         let (width, height) = (map.width as usize, map.height as usize);
-        let luminance = |x: i64, y: i64| {
+        let texel_luminance = |x: i64, y: i64| {
             let t = map.texel(x.rem_euclid(width as i64) as u32, y.clamp(0, height as i64 - 1) as u32);
-            f64::from(0.2126 * t.x + 0.7152 * t.y + 0.0722 * t.z)
+            f64::from(luminance(t))
         };
         let mut weights = vec![0.0; width * height];
         for y in 0..height {
@@ -206,7 +202,7 @@ impl TexelTable {
                 let mut brightest: f64 = 0.0;
                 for dy in -1..=1 {
                     for dx in -1..=1 {
-                        brightest = brightest.max(luminance(x as i64 + dx, y as i64 + dy));
+                        brightest = brightest.max(texel_luminance(x as i64 + dx, y as i64 + dy));
                     }
                 }
                 weights[y * width + x] = brightest * sin;

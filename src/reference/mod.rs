@@ -144,33 +144,7 @@ pub fn render_with_samples(scene: &Scene, samples: u32) -> Result<ReferenceImage
             })
             .collect()
     };
-    let rows: Vec<Vec<(Vec3, Option<usize>, Vec3)>> = if light.is_some() {
-        // Environments take many samples a pixel: the rows are shared among the cores.
-        let threads = std::thread::available_parallelism().map_or(1, usize::from);
-        let next = std::sync::atomic::AtomicU32::new(0);
-        let mut done: Vec<(u32, Vec<_>)> = std::thread::scope(|s| {
-            let workers: Vec<_> = (0..threads)
-                .map(|_| {
-                    s.spawn(|| {
-                        let mut rows = Vec::new();
-                        loop {
-                            let y = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                            if y >= height {
-                                return rows;
-                            }
-                            rows.push((y, trace_row(y)));
-                        }
-                    })
-                })
-                .collect();
-            workers.into_iter().flat_map(|worker| worker.join().unwrap_or_default()).collect()
-        });
-        done.sort_by_key(|(y, _)| *y);
-        done.into_iter().map(|(_, row)| row).collect()
-    } else {
-        (0..height).map(trace_row).collect()
-    };
-    let traced: Vec<_> = rows.into_iter().flatten().collect();
+    let traced = crate::parallel::rows(height, trace_row);
     Ok(ReferenceImage {
         image: HdrImage { width, height, pixels: traced.iter().map(|t| t.0).collect() },
         object_ids: traced.iter().map(|t| t.1).collect(),

@@ -22,8 +22,6 @@ pub const MAX_PASSES: u32 = 256;
 /// The passes so far of one image, summed per pixel (one image's lifetime).
 #[derive(Clone, Debug)]
 pub struct Passes {
-    pub width: u32,
-    pub height: u32,
     pub count: u32,
     sum: Vec<[f64; 3]>,
     sum_of_squares: Vec<[f64; 3]>,
@@ -52,12 +50,17 @@ impl std::fmt::Display for Accuracy {
 impl Passes {
     pub fn new(width: u32, height: u32) -> Self {
         let pixels = (width * height) as usize;
-        Self { width, height, count: 0, sum: vec![[0.0; 3]; pixels], sum_of_squares: vec![[0.0; 3]; pixels] }
+        Self { count: 0, sum: vec![[0.0; 3]; pixels], sum_of_squares: vec![[0.0; 3]; pixels] }
+    }
+
+    /// Samples a pixel so far.
+    pub fn samples(&self) -> u32 {
+        self.count * SAMPLES_PER_PASS
     }
 
     /// The first sample index of the next pass.
     pub fn next_first_sample(&self) -> u32 {
-        self.count * SAMPLES_PER_PASS
+        self.samples()
     }
 
     /// Adds a pass's image: four native-endian f32 a pixel.
@@ -84,11 +87,6 @@ impl Passes {
         (0..self.sum.len()).flat_map(|i| self.mean(i).extend(1.0).to_array()).flat_map(f32::to_ne_bytes).collect()
     }
 
-    /// The mean of the passes.
-    pub fn mean_pixels(&self) -> Vec<Vec3> {
-        (0..self.sum.len()).map(|i| self.mean(i)).collect()
-    }
-
     /// Per pixel, the standard error of the mean (the largest channel's) in 8-bit levels of an image made
     /// with `settings`: how far one error up moves the mean's level (infinite before two passes).
     pub fn standard_errors(&self, settings: &ImageSettings) -> Vec<f32> {
@@ -111,7 +109,7 @@ impl Passes {
     /// How exact the mean is, in the levels of an image made with `settings`.
     pub fn accuracy(&self, settings: &ImageSettings) -> Accuracy {
         let p99_levels = percentile_99(&mut self.standard_errors(settings));
-        Accuracy { samples: self.count * SAMPLES_PER_PASS, passes: self.count, p99_levels }
+        Accuracy { samples: self.samples(), passes: self.count, p99_levels }
     }
 
     /// Whether the passes so far are enough.
@@ -136,7 +134,7 @@ mod tests {
         for k in 0..8 {
             passes.add(&pass(&[if k % 2 == 0 { 0.4 } else { 0.6 }, 0.3]));
         }
-        assert_eq!(passes.mean_pixels()[0], Vec3::splat(0.5));
+        assert_eq!(passes.mean(0), Vec3::splat(0.5));
         let accuracy = passes.accuracy(&settings);
         let expected = 255.0 * (0.2f32 * 0.2 * 8.0 / 4.0 / 7.0).sqrt() / 8f32.sqrt();
         // The 99th percentile of two pixels is the larger.

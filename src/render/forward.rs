@@ -100,8 +100,7 @@ impl PipelineKey {
 
 /// environment.glsl's `ENVIRONMENT` for `scene`: none, exact or fast.
 fn environment_constant(scene: &Scene) -> u32 {
-    match scene.environment.as_ref().map(|e| e.mode) {
-        _ if !scene.image.view.is_radiance() => 0,
+    match scene.environment_light() {
         None => 0,
         Some(EnvironmentMode::Exact) => 1,
         Some(EnvironmentMode::Fast) => 2,

@@ -286,7 +286,7 @@ impl Renderer {
         self.check_image_settings(scene)?;
         let placed = place_objects(scene)?;
         self.accuracy = None;
-        if integrates_exactly(scene) {
+        if scene.environment_light() == Some(EnvironmentMode::Exact) {
             let mut passes = Passes::new(scene.image.width, scene.image.height);
             while !passes.done(&scene.image) {
                 self.add_pass(scene, &placed, &mut passes)?;
@@ -350,7 +350,7 @@ impl Renderer {
             }
             self.environment = EnvironmentTextures::new(&self.device, Some(environment.source.clone()), map)?;
         }
-        if environment.mode != EnvironmentMode::Fast || !scene.image.view.is_radiance() {
+        if scene.environment_light() != Some(EnvironmentMode::Fast) {
             return Ok(vec![GpuAlbedoEntry::default()]);
         }
         self.environment.prefilter(&self.device)?;
@@ -555,12 +555,6 @@ impl Renderer {
         self.scene_data = Some(scene_data);
         drawn
     }
-}
-
-/// Whether the scene's environment is integrated by passes of the exact mode (a term view other than the
-/// lobes' shows no environment light).
-fn integrates_exactly(scene: &Scene) -> bool {
-    scene.environment.as_ref().is_some_and(|e| e.mode == EnvironmentMode::Exact) && scene.image.view.is_radiance()
 }
 
 /// An allocation that failed for what `setting` of `scene` asked, said as such with the bytes it needed;

@@ -329,6 +329,12 @@ impl Shape {
 }
 
 impl Scene {
+    /// How the image integrates the environment: its mode, or `None` for a scene without one and for a term
+    /// view other than the lobes' (those show the point lights' terms alone).
+    pub fn environment_light(&self) -> Option<EnvironmentMode> {
+        self.environment.as_ref().map(|e| e.mode).filter(|_| self.image.view.is_radiance())
+    }
+
     /// Reads, overrides and validates a scene file.
     ///
     /// # Errors

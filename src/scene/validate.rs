@@ -119,7 +119,7 @@ fn image(s: &ImageSection) -> Check<ImageSettings> {
 fn environment(s: &EnvironmentSection, scene_path: &Path) -> Check<Environment> {
     let source =
         match (&s.map, &s.builtin) {
-            (Some(map), None) => EnvironmentSource::Map(scene_path.parent().unwrap_or(Path::new("")).join(map)),
+            (Some(map), None) => EnvironmentSource::Map(beside_scene(map, scene_path)),
             (None, Some(name)) => EnvironmentSource::Builtin(
                 BuiltinEnvironment::ALL.into_iter().find(|b| b.name() == name).ok_or_else(|| {
                     format!(
@@ -339,6 +339,11 @@ fn resolve_mesh_path(path: &str, scene_path: &Path) -> std::path::PathBuf {
     if path == "bunny" {
         return BUNNY_PATH.into();
     }
+    beside_scene(path, scene_path)
+}
+
+/// A path a scene file names, relative to the scene file's folder (or absolute).
+fn beside_scene(path: &str, scene_path: &Path) -> std::path::PathBuf {
     scene_path.parent().unwrap_or(Path::new("")).join(path)
 }
 
