@@ -132,9 +132,9 @@ fn compile_shaders() {
         if !["vert", "frag", "comp"].iter().any(|stage| relative.ends_with(&format!(".{stage}"))) {
             continue;
         }
-        // An entry file may name variants, each compiled again with its macro defined: `// variant: NAME`
-        // gives the entry `FILE+NAME` (shaders/forward.frag: its environment's light apart, so that scenes
-        // without one do not make lavapipe read the code).
+        // An entry file may name variants, each compiled again with its macros defined: `// variant: A+B`
+        // gives the entry `FILE+A+B` (shaders/forward.frag: its environment's light and its term views apart,
+        // so that the radiance of scenes without an environment does not make lavapipe read their code).
         let text = std::fs::read_to_string(file).expect("shaders/ is readable");
         let variants = text.lines().filter_map(|line| line.strip_prefix("// variant: ")).map(str::trim);
         for variant in std::iter::once(None).chain(variants.map(Some)) {
@@ -146,7 +146,7 @@ fn compile_shaders() {
             std::fs::create_dir_all(spirv.parent().expect("a file has a folder")).expect("OUT_DIR is writable");
             let mut command = Command::new(&glslc);
             command.current_dir(&root).args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", "."]);
-            if let Some(name) = variant {
+            for name in variant.iter().flat_map(|names| names.split('+')) {
                 command.arg(format!("-D{name}"));
             }
             let status = command.arg("-o").arg(&spirv).arg(&relative).status().unwrap_or_else(|e| {

@@ -1,5 +1,7 @@
 #version 460
 // variant: WITH_ENVIRONMENT
+// variant: TERM_VIEWS
+// variant: WITH_ENVIRONMENT+TERM_VIEWS
 
 // The forward pass of meshes and planes: each fragment shaded at the interpolated point and normal.
 // Spheres have their own pass, forward_sphere.frag.

@@ -1,5 +1,7 @@
 #version 460
 // variant: WITH_ENVIRONMENT
+// variant: TERM_VIEWS
+// variant: WITH_ENVIRONMENT+TERM_VIEWS
 
 // The forward pass of spheres. The bounding mesh's fragments cover the samples whose camera rays meet the
 // exact sphere (gl_SampleMask) and shade the point where the pixel centre's ray meets it, as the ray tracer

@@ -1,4 +1,5 @@
-//! Rows of an image or a map made on all the cores: the CPU reference's rays and the environment's maps.
+//! Work made on all the cores, item by item: the CPU reference's rows of rays, the environment's maps, and
+//! the pipelines lavapipe builds.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 

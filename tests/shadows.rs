@@ -91,6 +91,31 @@ fn a_light_casting_no_shadow_lights_everything() {
 }
 
 #[test]
+fn a_plane_shadows_what_lies_beyond_it_for_a_camera_there_too() {
+    // The sphere below the plane, the light above, the camera below: the plane hides the sphere from the
+    // light, so the shadow cube must hold the plane (src/render/occluders.rs leaves a plane out only where
+    // its shadow cannot be seen). Without shadows the sphere's upper right is lit.
+    let overrides: Vec<_> =
+        ["camera.position=[1.5, -1.2, -1.0]", "camera.look_at=[0.0, -1.0, 1.5]", "object.1.center=[0.0, -1.0, 1.5]"]
+            .iter()
+            .map(|o| o.parse().unwrap())
+            .collect();
+    let scene = Scene::load(&root().join("tests/scenes/sphere-shadow.toml"), &overrides).unwrap();
+    let traced = reference::render(&scene).unwrap();
+    // The sphere's pixels lit, away from its silhouette (where samples of the grey background mix in).
+    let edges = silhouette_band(&traced.object_ids, scene.image.width, scene.image.height, 2);
+    let sphere = |image: &HdrImage| {
+        let inside = traced.object_ids.iter().zip(&edges).map(|(id, edge)| *id == Some(1) && !edge);
+        image.pixels.iter().zip(inside).filter(|(p, inside)| *inside && p.max_element() > 0.01).count()
+    };
+    let lit_without_shadows = sphere(&render(&without_shadows(&scene)));
+    assert!(lit_without_shadows > 1000, "too little of the sphere is lit to tell: {lit_without_shadows} px");
+    assert_eq!(sphere(&render(&scene)), 0, "the plane does not shadow the sphere beyond it");
+    let c = check_against_reference("plane-shadows-beyond", &scene, |c| c.max <= 1);
+    eprintln!("a sphere in the shadow of the plane: {c}");
+}
+
+#[test]
 fn a_bigger_shadow_map_moves_the_edge_less() {
     // The edge's error shrinks with the texel: each size, set explicitly, must be worse than the next one
     // up. Were shadow_map_size ignored, the three would be equal.

@@ -37,12 +37,14 @@ const uint ALBEDO_TABLE_SIZE = 32u;
 
 // The f_r the view integrates.
 vec3 view_brdf(Material m, vec3 n, vec3 wi, vec3 wo) {
+#ifdef TERM_VIEWS
     if (VIEW == VIEW_DIFFUSE) {
         return brdf_eval_diffuse(m, n, wi, wo);
     }
     if (VIEW == VIEW_SPECULAR) {
         return brdf_eval_specular(m, n, wi, wo);
     }
+#endif
     return brdf_eval(m, n, wi, wo);
 }
 

@@ -4,6 +4,11 @@
 // What an image shows (View in src/scene/mod.rs): the radiance, the render, or one term of the shading,
 // each light's term summed over the lights, so that a student sees which term of theirs differs. Fixed when
 // the pipeline is built (a specialization constant): the radiance's pipelines run the code they always ran.
+//
+// The terms' code is compiled into the entry files' TERM_VIEWS variants alone (as the environment's is into
+// WITH_ENVIRONMENT's): lavapipe reads and optimizes every function of a shader before the specialization
+// constants settle which runs, and the radiance's pipelines, which every figure, sweep and preview frame
+// uses, were built 30% slower for the terms' mere presence.
 
 #include "common/brdf.glsl"
 
@@ -22,6 +27,7 @@ const uint VIEW_SPECULAR = 8u;
 // Whether the view weighs each light by what reaches the point (a radiance), shadows included.
 bool view_is_radiance() { return VIEW == VIEW_RADIANCE || VIEW == VIEW_DIFFUSE || VIEW == VIEW_SPECULAR; }
 
+#ifdef TERM_VIEWS
 // A Cook-Torrance material's D, G or F for one light; 0 for the other models, which have none (the scene
 // warns which objects are black).
 vec3 microfacet_term(Material m, vec3 n, vec3 wi, vec3 wo) {
@@ -60,5 +66,11 @@ vec3 light_view(Material m, vec3 n, vec3 wi, vec3 wo, vec3 incident, float NoL, 
             return brdf_eval(m, n, wi, wo) * incident * (NoL * visible);
     }
 }
+#else
+// The radiance's variant: forward.rs builds the TERM_VIEWS variant for every other view.
+vec3 light_view(Material m, vec3 n, vec3 wi, vec3 wo, vec3 incident, float NoL, float visible) {
+    return brdf_eval(m, n, wi, wo) * incident * (NoL * visible);
+}
+#endif
 
 #endif

@@ -10,7 +10,7 @@ use super::gpu_types::GpuMaterial;
 use super::passes::{begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
-use crate::scene::{EnvironmentMode, Object, Scene, ShadowFilter};
+use crate::scene::{EnvironmentMode, Object, Scene, ShadowFilter, View};
 use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, ShaderCompiler};
 
 /// The HDR colour format: 32-bit float, so that the course's truncation to 8 bits sees exact values.
@@ -27,29 +27,40 @@ pub struct ForwardPass {
     device: Arc<Device>,
 }
 
-/// A pass's vertex shader and its fragment shader, without and with the environment's light (the entry
-/// file's WITH_ENVIRONMENT variant: common/shading.glsl says why apart).
+/// A pass's vertex shader and its fragment shader's variants, with or without the environment's light and
+/// the term views (the entry file's WITH_ENVIRONMENT and TERM_VIEWS: common/shading.glsl and
+/// common/views.glsl say why apart), indexed by [`Stages::variant`].
 struct Stages {
     vertex: CompiledShader,
-    fragment: CompiledShader,
-    fragment_with_environment: CompiledShader,
+    fragments: Vec<CompiledShader>,
 }
+
+/// The fragment variants a pass's entry file names, in the order of [`Stages::variant`].
+const FRAGMENT_VARIANTS: [&str; 4] = ["", "+WITH_ENVIRONMENT", "+TERM_VIEWS", "+WITH_ENVIRONMENT+TERM_VIEWS"];
 
 impl Stages {
     fn new(
         compiler: &ShaderCompiler,
-        (vertex, fragment, with_environment): (&'static str, &'static str, &'static str),
+        (vertex, fragment): (&'static str, &'static str),
+        variants: usize,
     ) -> Result<Self> {
         Ok(Self {
             vertex: CompiledShader::new(compiler, vertex)?,
-            fragment: CompiledShader::new(compiler, fragment)?,
-            fragment_with_environment: CompiledShader::new(compiler, with_environment)?,
+            fragments: FRAGMENT_VARIANTS[..variants]
+                .iter()
+                .map(|variant| CompiledShader::new(compiler, format!("{fragment}{variant}")))
+                .collect::<Result<_>>()?,
         })
     }
 
-    /// The vertex and fragment shaders, the latter with the environment's light or not.
-    fn pick(&self, environment: bool) -> (&CompiledShader, &CompiledShader) {
-        (&self.vertex, if environment { &self.fragment_with_environment } else { &self.fragment })
+    /// The index of the fragment variant with the environment's light or not, the term views or not.
+    fn variant(environment: bool, term_views: bool) -> usize {
+        usize::from(environment) + 2 * usize::from(term_views)
+    }
+
+    /// The vertex shader and one variant of the fragment shader.
+    fn pick(&self, variant: usize) -> (&CompiledShader, &CompiledShader) {
+        (&self.vertex, &self.fragments[variant])
     }
 }
 
@@ -114,32 +125,34 @@ impl ForwardPass {
     /// `Error::Shader` if a shader does not compile.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler, layout: &Arc<PipelineLayout>) -> Result<Self> {
         Ok(Self {
-            meshes: Stages::new(compiler, ("forward.vert", "forward.frag", "forward.frag+WITH_ENVIRONMENT"))?,
-            spheres: Stages::new(
-                compiler,
-                ("forward_sphere.vert", "forward_sphere.frag", "forward_sphere.frag+WITH_ENVIRONMENT"),
-            )?,
-            background: Stages::new(
-                compiler,
-                ("background.vert", "background.frag", "background.frag+WITH_ENVIRONMENT"),
-            )?,
+            meshes: Stages::new(compiler, ("forward.vert", "forward.frag"), 4)?,
+            spheres: Stages::new(compiler, ("forward_sphere.vert", "forward_sphere.frag"), 4)?,
+            // The background shows no term: only the environment's variant.
+            background: Stages::new(compiler, ("background.vert", "background.frag"), 2)?,
             layout: layout.clone(),
             pipelines: HashMap::new(),
             device: device.clone(),
         })
     }
 
-    /// The pipelines for `keys`, in order: those not built yet are built first.
+    /// The pipelines for `keys`, in order: those not built yet are built first, side by side on the cores
+    /// (lavapipe translates and optimizes a pipeline's shaders on the thread that asks, about 10 ms each on
+    /// these machines, and `figures` asks for ten at once: 40 ms less on two cores).
     ///
     /// # Errors
     /// `Error::Vulkan` if the driver refuses a pipeline.
     pub fn pipelines(&mut self, keys: &[PipelineKey]) -> Result<Vec<vk::Pipeline>> {
+        let mut missing: Vec<PipelineKey> = Vec::new();
         for key in keys {
-            if !self.pipelines.contains_key(key) {
-                let pipeline = self.build(key)?;
-                log::debug!("built the forward pipeline for {key:?}");
-                self.pipelines.insert(*key, pipeline);
+            if !self.pipelines.contains_key(key) && !missing.contains(key) {
+                missing.push(*key);
             }
+        }
+        let built = crate::parallel::rows(missing.len() as u32, |i| vec![self.build(&missing[i as usize])]);
+        for (key, pipeline) in missing.into_iter().zip(built) {
+            let pipeline = pipeline?;
+            log::debug!("built the forward pipeline for {key:?}");
+            self.pipelines.insert(key, pipeline);
         }
         Ok(keys.iter().map(|key| self.pipelines[key].raw).collect())
     }
@@ -148,13 +161,13 @@ impl ForwardPass {
         match *key {
             PipelineKey::Objects { samples, exact_sphere, constants } => {
                 let stages = if exact_sphere { &self.spheres } else { &self.meshes };
-                let shaders = stages.pick(constants[5] != 0);
+                let shaders = stages.pick(Stages::variant(constants[5] != 0, constants[4] != View::Radiance.id()));
                 build_pipeline(&self.device, &self.layout, shaders, (COLOR_FORMAT, samples), &constants)
             }
             PipelineKey::Background { samples, environment } => {
-                let (vertex, fragment) = self.background.pick(environment);
-                let vertex_module = self.device.create_shader_module(&vertex.spirv, vertex.name)?;
-                let fragment_module = self.device.create_shader_module(&fragment.spirv, fragment.name)?;
+                let (vertex, fragment) = self.background.pick(Stages::variant(environment, false));
+                let vertex_module = self.device.create_shader_module(&vertex.spirv, &vertex.name)?;
+                let fragment_module = self.device.create_shader_module(&fragment.spirv, &fragment.name)?;
                 let desc = GraphicsPipelineDesc {
                     vertex: &vertex_module,
                     fragment: &fragment_module,

@@ -5,6 +5,7 @@ mod environment;
 pub mod exact;
 mod forward;
 pub mod gpu_types;
+mod occluders;
 mod passes;
 mod probe;
 mod scene_data;
@@ -31,11 +32,12 @@ use environment::{EnvironmentTextures, MAP_FORMAT};
 use exact::{Accuracy, Passes, SAMPLES_PER_PASS};
 use forward::{ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuAlbedoEntry, GpuFrame, GpuObject, GpuPointLight};
+use occluders::{faces_with_occluders, occluders};
 use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
 use probe::{read_vec3s, ProbePass};
 pub use probe::{AlbedoCell, AlbedoJob, CellIntegral, ProbeCase};
 use scene_data::{SceneData, SceneImages, SceneValues};
-use shadow::{cube_face_views, faces_read_by, FaceKey, ShadowCubes, ShadowPass, DISTANCE_FORMAT};
+use shadow::{cube_face_views, faces_read_by, lookup_margin, FaceKey, ShadowCubes, ShadowPass, DISTANCE_FORMAT};
 use targets::{Targets, BYTES_PER_PIXEL};
 
 /// The near plane's distance: with reverse-Z float depth the precision does not depend on it.
@@ -454,10 +456,30 @@ impl Renderer {
         let (width, height) = (scene.image.width, scene.image.height);
         let samples = vk::SampleCountFlags::from_raw(scene.image.samples);
 
-        // Scene data. Each light that casts shadows gets the next cube of the shadow cube array.
-        let shadow_casters: Vec<usize> = (0..scene.lights.len()).filter(|&i| scene.lights[i].shadows).collect();
-        let seen: Vec<[bool; 6]> =
-            shadow_casters.iter().map(|&i| faces_read_by(scene, scene.lights[i].position)).collect();
+        // Scene data. Each light that casts shadows on something gets the next cube of the shadow cube array,
+        // holding its occluders on the faces the image reads where they fall (occluders.rs).
+        let occluders: Vec<Vec<bool>> = scene
+            .lights
+            .iter()
+            .map(|light| {
+                if light.shadows {
+                    occluders(light.position, scene.camera.position, placed)
+                } else {
+                    vec![false; placed.len()]
+                }
+            })
+            .collect();
+        let shadow_casters: Vec<usize> = (0..scene.lights.len()).filter(|&i| occluders[i].iter().any(|&o| o)).collect();
+        let margin = lookup_margin(scene) as f32;
+        let seen: Vec<[bool; 6]> = shadow_casters
+            .iter()
+            .map(|&i| {
+                let light = scene.lights[i].position;
+                let read = faces_read_by(scene, light);
+                let occupied = faces_with_occluders(light, placed, &occluders[i], margin);
+                std::array::from_fn(|face| read[face] && occupied[face])
+            })
+            .collect();
         let lights: Vec<GpuPointLight> = scene
             .lights
             .iter()
@@ -503,7 +525,7 @@ impl Renderer {
                 let bytes = u64::from(cube_size).pow(2) * 4 * (6 * shadow_casters.len() as u64 + 1);
                 too_big(e, scene, format!("image.shadow_map_size = {cube_size}"), "shadow cubes", bytes)
             })?;
-        let faces_to_draw = faces_to_draw(scene, placed, (&shadow_casters, &seen), &shadow_faces, &cubes);
+        let faces_to_draw = faces_to_draw(scene, placed, (&shadow_casters, &seen, &occluders), &shadow_faces, &cubes);
         let targets = Targets::for_size(&device, self.targets.take(), width, height, samples).map_err(|e| {
             // Colour (16 bytes) and depth (4) a sample, the resolved image and its read-back copy (16 each).
             let bytes = u64::from(width) * u64::from(height) * (20 * u64::from(scene.image.samples) + 32);
@@ -583,17 +605,20 @@ struct FaceDrawing {
     layer: u32,
     /// The light's index in the scene, and the face (0 to 5: +x, -x, +y, -y, +z, -z).
     light_face: (u32, u32),
+    /// Which objects are drawn into it (occluders.rs).
+    occluders: Vec<bool>,
     view: PassView,
     /// What it will hold.
     key: FaceKey,
 }
 
 /// The faces of the shadow cubes that this image reads (`seen`, per light of `casters`) and `cubes` do not
-/// hold yet.
+/// hold yet, each to be drawn with the objects that can shadow from its light (`occluders`, per light of the
+/// scene).
 fn faces_to_draw(
     scene: &Scene,
     placed: &[PlacedMesh],
-    (casters, seen): (&[usize], &[[bool; 6]]),
+    (casters, seen, occluders): (&[usize], &[[bool; 6]], &[Vec<bool>]),
     views: &[PassView],
     cubes: &ShadowCubes,
 ) -> Vec<FaceDrawing> {
@@ -605,7 +630,13 @@ fn faces_to_draw(
             let layer = (6 * cube + face) as u32;
             if !cubes.holds(layer, &key) {
                 let light_face = (light as u32, face as u32);
-                faces.push(FaceDrawing { layer, light_face, view: views[layer as usize], key: key.clone() });
+                faces.push(FaceDrawing {
+                    layer,
+                    light_face,
+                    occluders: occluders[light].clone(),
+                    view: views[layer as usize],
+                    key: key.clone(),
+                });
             }
         }
     }
@@ -739,7 +770,7 @@ impl FrameRecording<'_> {
                 &targets,
                 self.placed,
                 self.meshes,
-                Some(face.light_face),
+                Some((face.light_face, &face.occluders)),
             );
             // SAFETY: the command buffer is recording; every handle outlives the submission.
             unsafe { device.raw.cmd_end_rendering(cmd) };

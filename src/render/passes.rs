@@ -51,8 +51,8 @@ pub fn build_pipeline(
     (color_format, samples): (vk::Format, vk::SampleCountFlags),
     fragment_constants: &[u32],
 ) -> Result<Pipeline> {
-    let vertex_module = device.create_shader_module(&vertex.spirv, vertex.name)?;
-    let fragment_module = device.create_shader_module(&fragment.spirv, fragment.name)?;
+    let vertex_module = device.create_shader_module(&vertex.spirv, &vertex.name)?;
+    let fragment_module = device.create_shader_module(&fragment.spirv, &fragment.name)?;
     let (bindings, attributes) = vertex_input();
     let desc = GraphicsPipelineDesc {
         vertex: &vertex_module,
@@ -71,7 +71,7 @@ pub fn build_pipeline(
 
 /// One shader's SPIR-V and its file's name.
 pub struct CompiledShader {
-    pub name: &'static str,
+    pub name: String,
     pub spirv: Vec<u32>,
 }
 
@@ -80,8 +80,9 @@ impl CompiledShader {
     ///
     /// # Errors
     /// `Error::Shader` naming the file and line.
-    pub fn new(compiler: &ShaderCompiler, name: &'static str) -> Result<Self> {
-        Ok(Self { name, spirv: compiler.compile(name)? })
+    pub fn new(compiler: &ShaderCompiler, name: impl Into<String>) -> Result<Self> {
+        let name = name.into();
+        Ok(Self { spirv: compiler.compile(&name)?, name })
     }
 }
 
@@ -209,8 +210,8 @@ impl PassView {
 
 /// Sets the viewport and scissor to the target and draws every object with its pipeline (`pipelines[i]` for
 /// object i), culling the back faces of closed meshes the viewpoint is outside of, and telling the shaders
-/// which object each draw is and, for the shadow pass, which light and cube face (`shadow_face`; that pass
-/// leaves out the objects that cast no shadow).
+/// which object each draw is and, for the shadow pass, which light and cube face (`shadow_face`, with which
+/// objects can shadow from that light: that pass leaves out the others).
 #[allow(clippy::too_many_arguments)] // one pass's whole state, recorded in one go
 pub fn draw_objects(
     device: &Device,
@@ -221,7 +222,7 @@ pub fn draw_objects(
     targets: &PassTargets,
     placed: &[PlacedMesh],
     meshes: &MeshUploads,
-    shadow_face: Option<(u32, u32)>,
+    shadow_face: Option<((u32, u32), &[bool])>,
 ) {
     // SAFETY: the command buffer is recording inside a render pass; the buffers outlive the submission.
     unsafe {
@@ -229,7 +230,7 @@ pub fn draw_objects(
         device.raw.cmd_set_front_face(cmd, view.front_face());
         let mut bound = None;
         for (index, (p, &pipeline)) in placed.iter().zip(pipelines).enumerate() {
-            if shadow_face.is_some() && !p.casts_shadow {
+            if shadow_face.is_some_and(|(_, occluders)| !occluders[index]) {
                 continue;
             }
             if bound != Some(pipeline) {
@@ -245,7 +246,7 @@ pub fn draw_objects(
             device.raw.cmd_set_cull_mode(cmd, cull);
             device.raw.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.raw], &[0]);
             device.raw.cmd_bind_index_buffer(cmd, mesh.indices.raw, 0, vk::IndexType::UINT32);
-            let (light, face) = shadow_face.unwrap_or((0, 0));
+            let (light, face) = shadow_face.map_or((0, 0), |(light_face, _)| light_face);
             let push = [index as u32, light, face];
             let bytes: Vec<u8> = push.iter().flat_map(|v| v.to_ne_bytes()).collect();
             device.raw.cmd_push_constants(

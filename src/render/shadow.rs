@@ -171,12 +171,17 @@ impl ShadowCubes {
 /// (shading.glsl's SEEN_FACES_TIE, where rounding may pick either): twice that covers it. PCF also looks up
 /// to 1.75 texels beside the point's own direction (4 texels cover it).
 pub fn faces_read_by(scene: &Scene, light: Vec3) -> [bool; 6] {
+    faces_seen(&scene.camera, scene.image.width, scene.image.height, light, lookup_margin(scene))
+}
+
+/// How far beyond a face's edge, in units of its half-width, a lookup of `scene`'s image for a point in it
+/// may read ([`faces_read_by`]).
+pub fn lookup_margin(scene: &Scene) -> f64 {
     let tie = 2e-3;
-    let margin = match scene.image.shadow_filter {
+    match scene.image.shadow_filter {
         ShadowFilter::Hard => tie,
         ShadowFilter::Pcf => tie + 8.0 / f64::from(scene.image.shadow_map_size),
-    };
-    faces_seen(&scene.camera, scene.image.width, scene.image.height, light, margin)
+    }
 }
 
 /// Which faces of a cube centred on `light` hold the distance of a point the camera can see: those whose

@@ -119,8 +119,8 @@ impl ShaderCompiler {
     }
 
     /// The SPIR-V of one entry file (its stage from the extension: .vert, .frag, .comp), or of one of its
-    /// variants, `FILE+MACRO`: the file compiled with MACRO defined (the file names it in a line
-    /// `// variant: MACRO`).
+    /// variants, `FILE+MACRO` or `FILE+MACRO+OTHER`: the file compiled with those macros defined (the file
+    /// names the variant in a line `// variant: MACRO+OTHER`).
     ///
     /// # Errors
     /// `Error::Shader` naming the file, with shaderc's log (file:line: error: ...).
@@ -151,8 +151,8 @@ impl ShaderCompiler {
         let mut options =
             shaderc::CompileOptions::new().map_err(|e| error(format!("shaderc options could not be made: {e}")))?;
         options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
-        if let Some(variant) = variant {
-            options.add_macro_definition(variant, None);
+        for name in variant.iter().flat_map(|names| names.split('+')) {
+            options.add_macro_definition(name, None);
         }
         // SPIR-V 1.5: at 1.6 glslang declares workgroup sizes with LocalSizeId, which needs the maintenance4
         // feature, and the validation layer of Debian 12 reports it even when the feature is enabled.
