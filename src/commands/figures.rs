@@ -4,10 +4,10 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::sheets::{render_sheet, Tile};
+use super::sheets::{render_sheets, Sheet, Tile};
 use super::ImageArgs;
 use vk_render::figures::FIGURES;
-use vk_render::{Renderer, RendererOptions};
+use vk_render::{Renderer, RendererOptions, Scene};
 
 #[derive(Args)]
 pub struct FiguresArgs {
@@ -24,21 +24,19 @@ pub fn run(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.output)
         .map_err(|e| anyhow::anyhow!("{}: cannot create the folder: {e}", args.output.display()))?;
     let overrides = args.image.overrides();
-    let mut sheets = Vec::new();
+    let mut figures = Vec::new();
     for figure in FIGURES {
         let mut tiles = Vec::new();
         for image in figure.images {
             let scene = image.scene(&overrides)?;
             tiles.push(Tile { scene, label: image.label.to_string(), path: args.output.join(image.png_name()) });
         }
-        sheets.push((figure, tiles));
+        figures.push((figure, tiles, args.output.join(format!("{}.png", figure.name))));
     }
     // One device, one set of compiled shaders and pipelines for every image, the pipelines built first.
-    let mut renderer = Renderer::new(options)?;
-    renderer.prepare(&sheets.iter().flat_map(|(_, tiles)| tiles.iter().map(|tile| &tile.scene)).collect::<Vec<_>>())?;
-    for (figure, tiles) in &sheets {
-        let sheet = args.output.join(format!("{}.png", figure.name));
-        render_sheet(&mut renderer, figure.title, tiles, 4, &sheet)?;
-    }
-    Ok(())
+    let scenes: Vec<&Scene> = figures.iter().flat_map(|(_, tiles, _)| tiles.iter().map(|tile| &tile.scene)).collect();
+    let mut renderer = Renderer::for_scenes(options, &scenes)?;
+    let sheets: Vec<Sheet> =
+        figures.iter().map(|(figure, tiles, path)| Sheet { title: figure.title, tiles, columns: 4, path }).collect();
+    render_sheets(&mut renderer, &sheets)
 }

