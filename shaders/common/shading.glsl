@@ -43,10 +43,10 @@ uint faces_read(vec3 d) {
 }
 
 // 1 where the cube holds a distance beyond `unoccluded` in `direction` (the light sees that far), 0 where
-// it does not. Only the faces a visible point can read are drawn (`seen`: src/render/shadow.rs,
-// faces_seen); a lookup that may read another comes from no visible point (attributes extrapolated from a
-// sample to the pixel centre can leave the view) and counts as lit, so that what a face no image needed
-// holds never shows.
+// it does not. Only the faces a visible point can read and an occluder falls on are drawn (`seen`:
+// src/render/shadow.rs, faces_seen, and src/render/occluders.rs); a lookup that may read another counts as
+// lit: either no occluder is there, or it comes from no visible point (attributes extrapolated from a sample
+// to the pixel centre can leave the view), so that what a face no image needed holds never shows.
 float lit_in(vec3 direction, float layer, uint seen, float unoccluded) {
     if ((faces_read(direction) & ~seen) != 0u) {
         return 1.0;

@@ -58,7 +58,8 @@ impl ShadowPass {
 
 /// Kept per lighting: the shadow cubes (one per light that casts shadows, a single unused 1-texel cube when
 /// none does) and the depth image every face is drawn with in turn. A face is drawn only when the camera
-/// can see a point it holds the distance of ([`faces_seen`]), and drawn again only when what it shows
+/// can see a point it holds the distance of ([`faces_seen`]) and an object that can shadow it falls on it
+/// (`occluders.rs`), with those objects alone, and drawn again only when what it shows
 /// changed (see [`FaceKey`]): a sweep over a material reuses every face, a camera orbiting in the preview
 /// draws a face once, when it first comes into view.
 pub struct ShadowCubes {
