@@ -48,3 +48,22 @@ fn a_long_lived_renderer_makes_the_bytes_of_a_new_one() {
         );
     }
 }
+
+#[test]
+fn a_camera_crossing_a_plane_redraws_the_faces_its_shadow_needs() {
+    // The sphere below the plane, the light above. Seen from above, the plane's shadow cannot be seen and
+    // the cubes leave it out (src/render/occluders.rs); seen from below, it hides the sphere from the light,
+    // so the faces kept from above must be drawn again with the plane.
+    let sphere_below = "object.1.center=[0.0, -1.0, 1.5]".parse().unwrap();
+    let above = Scene::load(&root().join("tests/scenes/sphere-shadow.toml"), &[sphere_below]).unwrap();
+    let mut below = above.clone();
+    (below.camera.position, below.camera.look_at) = (glam::Vec3::new(1.5, -1.2, -1.0), glam::Vec3::new(0.0, -1.0, 1.5));
+    let mut kept = renderer();
+    for (name, scene) in [("above", &above), ("below", &below), ("above again", &above)] {
+        let image = kept.render(scene).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let mut fresh = Renderer::new(RendererOptions { validate: true, ..Default::default() }).unwrap();
+        let expected = fresh.render(scene).unwrap_or_else(|e| panic!("{name}, new renderer: {e}"));
+        let differing = image.pixels.iter().zip(&expected.pixels).filter(|(a, b)| a != b).count();
+        assert_eq!(differing, 0, "{name}: {differing} pixels differ from a new renderer's");
+    }
+}

@@ -624,10 +624,8 @@ struct FaceDrawing {
     layer: u32,
     /// The light's index in the scene, and the face (0 to 5: +x, -x, +y, -y, +z, -z).
     light_face: (u32, u32),
-    /// Which objects are drawn into it (occluders.rs).
-    occluders: Vec<bool>,
     view: PassView,
-    /// What it will hold.
+    /// What it will hold; its `occluders` are the objects drawn into it.
     key: FaceKey,
 }
 
@@ -644,18 +642,13 @@ fn faces_to_draw(
     let geometry: Arc<[PlacedMesh]> = placed.into();
     let mut faces = Vec::new();
     for (cube, (&light, seen)) in casters.iter().zip(seen).enumerate() {
-        let key = FaceKey::new(scene.image.shadow_map_size, scene.lights[light].position, geometry.clone());
+        let size = scene.image.shadow_map_size;
+        let key = FaceKey::new(size, scene.lights[light].position, geometry.clone(), occluders[light].clone());
         for face in (0..6).filter(|&face| seen[face]) {
             let layer = (6 * cube + face) as u32;
             if !cubes.holds(layer, &key) {
                 let light_face = (light as u32, face as u32);
-                faces.push(FaceDrawing {
-                    layer,
-                    light_face,
-                    occluders: occluders[light].clone(),
-                    view: views[layer as usize],
-                    key: key.clone(),
-                });
+                faces.push(FaceDrawing { layer, light_face, view: views[layer as usize], key: key.clone() });
             }
         }
     }
@@ -789,7 +782,7 @@ impl FrameRecording<'_> {
                 &targets,
                 self.placed,
                 self.meshes,
-                Some((face.light_face, &face.occluders)),
+                Some((face.light_face, &face.key.occluders)),
             );
             // SAFETY: the command buffer is recording; every handle outlives the submission.
             unsafe { device.raw.cmd_end_rendering(cmd) };

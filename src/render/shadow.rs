@@ -73,33 +73,34 @@ pub struct ShadowCubes {
     laid_out: bool,
 }
 
-/// What one face of a shadow cube shows: the map size, the light's position and every object's mesh (by
-/// identity), placement and kind.
+/// What one face of a shadow cube shows: the map size, the light's position, every object's mesh (by
+/// identity), placement and kind, and which objects are drawn into it (`occluders.rs`: which depends on the
+/// camera too, so a camera crossing a plane can change it with nothing else).
 #[derive(Clone)]
 pub struct FaceKey {
     size: u32,
     light: Vec3,
     geometry: Arc<[PlacedMesh]>,
+    pub occluders: Vec<bool>,
 }
 
 impl PartialEq for FaceKey {
     fn eq(&self, other: &Self) -> bool {
+        // Whether an object casts shadows is in `occluders`.
         let same_object = |(a, b): (&PlacedMesh, &PlacedMesh)| {
-            Arc::ptr_eq(&a.mesh, &b.mesh)
-                && a.model == b.model
-                && a.exact_sphere == b.exact_sphere
-                && a.casts_shadow == b.casts_shadow
+            Arc::ptr_eq(&a.mesh, &b.mesh) && a.model == b.model && a.exact_sphere == b.exact_sphere
         };
         self.size == other.size
             && self.light == other.light
+            && self.occluders == other.occluders
             && self.geometry.len() == other.geometry.len()
             && self.geometry.iter().zip(other.geometry.iter()).all(same_object)
     }
 }
 
 impl FaceKey {
-    pub fn new(size: u32, light: Vec3, geometry: Arc<[PlacedMesh]>) -> Self {
-        Self { size, light, geometry }
+    pub fn new(size: u32, light: Vec3, geometry: Arc<[PlacedMesh]>, occluders: Vec<bool>) -> Self {
+        Self { size, light, geometry, occluders }
     }
 }
 
