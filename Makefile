@@ -13,7 +13,7 @@ CARGO ?= cargo
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test test-current bench bench-peer bless clean
+.PHONY: all setup setup-test build render test test-python test-current bench bench-peer bench-python bless clean
 
 all: render
 
@@ -35,11 +35,18 @@ render: build
 	$(BIN) figures -o $(OUT)
 
 ## test: every test (unit, shader compilation, GPU renders with validation, CLI errors); then builds the
-## benchmarks and the build without the preview, so that neither can rot
+## benchmarks and the build without the preview, so that neither can rot; then the Python package's tests
 test: setup-test
 	$(CARGO) test --release --locked
 	$(CARGO) bench --locked --no-run
 	$(CARGO) build --release --locked --no-default-features
+	$(MAKE) --no-print-directory test-python
+
+## test-python: the Python package's tests: `pip install ./python` into a venv made once
+## (scripts/python-env.sh: target/python-venv, with pytest, Dask and matplotlib pinned), then pytest
+test-python: setup-test
+	$(CARGO) build --release --locked
+	cd python/tests && "$$(../../scripts/python-env.sh)" -m pytest -q -p no:cacheprovider
 
 ## test-current: `make test` again in a Debian 13 root (Mesa 25 lavapipe, validation layer 1.4), made once
 ## from Debian's packages and cached (scripts/stage-current.sh; needs root or sudo)
@@ -54,6 +61,10 @@ bench: setup
 ## (scripts/bench-pyrender.sh; `scripts/stage-current.sh bench-peer` on Debian 13)
 bench-peer: setup
 	scripts/bench-pyrender.sh
+
+## bench-python: the Python package against the command line (scripts/bench-python.sh), as ratios
+bench-python: setup
+	scripts/bench-python.sh
 
 ## bless: rewrite the golden images of tests/golden/ from lavapipe's renders (on purpose: review the diff)
 bless: setup-test

@@ -41,17 +41,9 @@ ready() {
 }
 
 if ! ready; then
-    echo "Making the pyrender venv in $venv (once; later runs reuse it)" >&2
-    rm -rf "$venv"
-    "${PYTHON:-python3}" -m venv "$venv" >&2 || {
-        echo "${PYTHON:-python3} -m venv failed: is python3-venv installed?" >&2
-        exit 1
-    }
-    "$venv/bin/python" -m pip install -q --disable-pip-version-check "${pins[@]}" >&2 || {
-        echo "pip could not install ${pins[*]} into $venv" >&2
-        exit 1
-    }
-    echo "${pins[*]}" >"$venv/vk-render-pins"
+    # A venv whose pins are right but whose pyrender does not import is made anew.
+    rm -f "$venv/vk-render-pins"
+    "$project/scripts/make-venv.sh" "$venv" pyrender "${pins[@]}"
     ready || {
         echo "pyrender does not import in $venv; see: PYOPENGL_PLATFORM=egl $venv/bin/python -c 'import pyrender'" >&2
         exit 1

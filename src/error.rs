@@ -47,6 +47,14 @@ pub enum Error {
     #[error("{0}")]
     Preview(String),
 
+    /// An input image (one to check or fit against) could not be read.
+    #[error("{}: {message}", path.display())]
+    Input { path: PathBuf, message: String },
+
+    /// The computation was asked to stop before it was done (see `interrupt`).
+    #[error("interrupted")]
+    Interrupted,
+
     /// The output image could not be written.
     #[error("{}: {message}", path.display())]
     Output { path: PathBuf, message: String },

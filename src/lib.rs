@@ -14,6 +14,8 @@ pub mod environment;
 pub mod error;
 pub mod figures;
 pub mod files;
+pub mod grid;
+pub mod interrupt;
 pub mod mesh;
 pub mod output;
 pub mod parallel;

@@ -35,8 +35,12 @@ enum Command {
     Render(commands::render::RenderArgs),
     /// Ray-trace a scene on the CPU (the independent reference the tests compare the GPU with).
     Reference(commands::reference::ReferenceArgs),
-    /// Render one image per value of a scene key and a labelled contact sheet of them (PNG).
+    /// Render one image per value of a scene key, or per combination of the values of several, and a
+    /// labelled contact sheet of them (PNG); in shares (--shard K/N) or resumed (--resume).
     Sweep(commands::sweep::SweepArgs),
+    /// Make a sweep's contact sheet from its tiles on disk (rendered by `sweep --shard K/N`), with the same
+    /// arguments as the sweep; nothing is rendered.
+    Sheet(commands::sweep::GridArgs),
     /// Show a scene live in a window: drag to orbit, wheel to zoom, R to reset, Tab to select an object,
     /// 1-5 to switch its BRDF, Up/Down its main parameter, Left/Right its metalness, L shadows, B the selected object's BRDF lobe, S a
     /// screenshot, Esc to quit. The scene file and shaders/ are reloaded when they change.
@@ -135,6 +139,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Render(args) => commands::render::run(args, options),
         Command::Reference(args) => commands::reference::run(args),
         Command::Sweep(args) => commands::sweep::run(args, options),
+        Command::Sheet(args) => commands::sweep::run_sheet(args),
         Command::Figures(args) => commands::figures::run(args, options),
         Command::Plot(args) => commands::plot::run(args, options),
         Command::Furnace(args) => commands::furnace::run(args, options),

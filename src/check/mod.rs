@@ -3,6 +3,7 @@
 //! JPEG cannot fool, and ranked by how well they explain it. A layer above render, like the analysis.
 
 pub mod catalogue;
+pub mod report;
 
 use image::RgbImage;
 
@@ -54,6 +55,7 @@ pub fn render_candidates(
     // The mistakes of the scene and of the output first, on the embedded shaders; then those of the shaders,
     // each on its variant, the embedded shaders put back once at the end (a failed render too).
     for (image, mistake) in images.iter_mut().zip(mistakes) {
+        crate::interrupt::check()?;
         let made = match mistake.variant {
             Variant::Shader(_) => continue,
             Variant::Scene(change) => {
@@ -70,6 +72,7 @@ pub fn render_candidates(
     let mut shader_variants = || -> Result<()> {
         for (image, mistake) in images.iter_mut().zip(mistakes) {
             let Variant::Shader(edits) = mistake.variant else { continue };
+            crate::interrupt::check()?;
             let sources = edits
                 .iter()
                 .try_fold(ShaderSources::default(), |sources, e| sources.with_replaced(e.file, e.from, e.to))

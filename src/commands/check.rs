@@ -7,11 +7,10 @@ use std::process::ExitCode;
 use clap::Args;
 
 use super::{progress, SetArgs};
-use vk_render::check::catalogue::{Mistake, CATALOGUE};
-use vk_render::check::{
-    diagnose, regions, render_candidates, scene_that_tells_apart, Verdict, EDGE_MARGIN, MATCH_P99, MATCH_RMS,
-};
-use vk_render::figures::{practical_image, FIGURES};
+use vk_render::check::catalogue::CATALOGUE;
+use vk_render::check::report::{check_image, read_image, scene_named};
+use vk_render::check::{Verdict, EDGE_MARGIN, MATCH_P99, MATCH_RMS};
+use vk_render::figures::FIGURES;
 use vk_render::output::{write_png, OutputFormat};
 use vk_render::report::{side_by_side, Difference};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
@@ -78,14 +77,13 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
         Override::new("image.height", i64::from(mine.height())),
     ];
     overrides.extend(args.set.overrides.iter().cloned());
-    let scene = load_scene(scene_name, &overrides)?;
-    let mistakes: Vec<&'static Mistake> = CATALOGUE.iter().collect();
+    let scene = scene_named(scene_name, &overrides)?;
     let mut renderer = Renderer::new(options)?;
-    let bar = progress(mistakes.len(), "rendering the mistakes");
-    let candidates = render_candidates(&mut renderer, &scene, &mistakes, |done, _| bar.set_position(done as u64))?;
+    let bar = progress(CATALOGUE.len(), "rendering the mistakes");
+    let checked = check_image(&mut renderer, &mine, &scene, |done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
-    let diagnosis = diagnose(&mine, &candidates);
-    let exact = &candidates[0].image;
+    let diagnosis = &checked.diagnosis;
+    let exact = checked.exact();
     let stats = &diagnosis.against_exact;
     println!(
         "{} against {} at {} x {}: {}",
@@ -93,7 +91,7 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
         scene_name,
         mine.width(),
         mine.height(),
-        if stats.matches() && diagnosis.verdict == Verdict::Matches { "matches" } else { "differs" }
+        if checked.matches() { "matches" } else { "differs" }
     );
     println!(
         "tolerance (JPEG-fair): both images blurred over 3 x 3 pixels, {EDGE_MARGIN} pixels around hard edges left out; \
@@ -106,9 +104,7 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
         stats.p99,
         100.0 * stats.over
     );
-    let traced = vk_render::reference::render(&scene)?;
-    let per_region = regions(&mine, exact, &traced.object_ids);
-    for region in &per_region {
+    for region in &checked.regions {
         let s = &region.stats;
         println!(
             "  {} {}: root mean square {:.2}, p99 {:.1}, {:.2}% over",
@@ -119,32 +115,30 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
             100.0 * s.over
         );
     }
-    let named = |name: &str| CATALOGUE.iter().find(|m| m.name == name);
+    let mistakes = checked.mistakes();
     let diagnosed = match &diagnosis.verdict {
         Verdict::Matches => {
             println!("diagnosis: none needed, your image is the exact one within the tolerance");
             None
         }
-        Verdict::Mistake(name) => {
-            let mistake = named(name);
-            if let Some(m) = mistake {
+        Verdict::Mistake(_) => {
+            for m in &mistakes {
                 println!(
                     "diagnosis: {}: {} It should be {}; your image suggests {}.",
                     m.name, m.explanation, m.should_be, m.looks_like
                 );
             }
-            mistake
+            mistakes.first().copied()
         }
-        Verdict::Tie(names) => {
+        Verdict::Tie(_) => {
             println!("diagnosis: these mistakes explain your image equally well on this scene:");
-            for m in names.iter().filter_map(|n| named(n)) {
+            for m in &mistakes {
                 println!(
                     "  {}: {} It should be {}; your image suggests {}.",
                     m.name, m.explanation, m.should_be, m.looks_like
                 );
             }
-            let tied: Vec<&'static Mistake> = names.iter().filter_map(|n| named(n)).collect();
-            match scene_that_tells_apart(&mut renderer, &tied, (mine.width(), mine.height()))? {
+            match checked.tells_apart {
                 Some((shows_on, distance)) => println!(
                     "  the practical's scene that tells them apart: {} (their renders differ by {distance:.1} levels or more \
                      there): render yours of it and check it",
@@ -152,11 +146,11 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
                 ),
                 None => println!("  no scene of the practical tells them apart"),
             }
-            tied.first().copied()
+            mistakes.first().copied()
         }
         Verdict::Unexplained => {
             println!("diagnosis: no known mistake explains your image; the differences lie in:");
-            let mut worst: Vec<_> = per_region.iter().filter(|r| r.stats.over > 0.01).collect();
+            let mut worst: Vec<_> = checked.regions.iter().filter(|r| r.stats.over > 0.01).collect();
             worst.sort_by(|a, b| b.stats.over.total_cmp(&a.stats.over));
             for region in worst.iter().take(3) {
                 println!(
@@ -177,7 +171,7 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
             (format!("|yours - exact|, 0 to {} levels", difference.scale()), difference.heat_map()),
         ];
         if let Some(m) = diagnosed {
-            if let Some(candidate) = candidates.iter().find(|c| c.mistake.is_some_and(|c| c.name == m.name)) {
+            if let Some(candidate) = checked.candidates.iter().find(|c| c.mistake.is_some_and(|c| c.name == m.name)) {
                 panels.push((format!("with {}", m.name), candidate.image.clone()));
             }
         }
@@ -208,36 +202,5 @@ fn object_name(scene: &Scene, object: Option<usize>) -> String {
     match object.and_then(|i| scene.objects.get(i).map(|o| (i, o))) {
         None => "background".into(),
         Some((i, o)) => format!("{} (object {i}, material {})", o.shape.kind(), o.material),
-    }
-}
-
-/// A practical's image by name, else a scene file.
-fn load_scene(name: &str, overrides: &[Override]) -> anyhow::Result<Scene> {
-    if let Some(image) = practical_image(name) {
-        return Ok(image.scene(overrides)?);
-    }
-    let path = std::path::Path::new(name);
-    if path.extension().is_none_or(|e| e != "toml") {
-        anyhow::bail!(
-            "--scene {name}: neither a scene file (.toml) nor one of the practical's images (vk-render check --list)"
-        );
-    }
-    Ok(Scene::load(path, overrides)?)
-}
-
-/// Your image: PNG or JPEG, 8-bit RGB (alpha, if any, left out); grey-scale and 16-bit images are refused.
-fn read_image(path: &std::path::Path) -> anyhow::Result<image::RgbImage> {
-    let bytes = vk_render::files::read_regular(path, "image", vk_render::files::MAX_IMAGE_BYTES)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let image = image::load_from_memory(&bytes)
-        .map_err(|e| anyhow::anyhow!("{}: not a PNG or JPEG image vk-render can read: {e}", path.display()))?;
-    match image {
-        image::DynamicImage::ImageRgb8(rgb) => Ok(rgb),
-        image::DynamicImage::ImageRgba8(rgba) => Ok(image::DynamicImage::ImageRgba8(rgba).to_rgb8()),
-        other => anyhow::bail!(
-            "{}: a {:?} image; vk-render compares 8-bit RGB images, as the course's skeleton writes them",
-            path.display(),
-            other.color()
-        ),
     }
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::sheets::{render_sheets, Sheet, Tile};
+use super::sheets::{render_sheets, Arrangement, Sheet, Tile};
 use super::ImageArgs;
 use vk_render::figures::FIGURES;
 use vk_render::{Renderer, RendererOptions, Scene};
@@ -29,14 +29,22 @@ pub fn run(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
         let mut tiles = Vec::new();
         for image in figure.images {
             let scene = image.scene(&overrides)?;
-            tiles.push(Tile { scene, label: image.label.to_string(), path: args.output.join(image.png_name()) });
+            let (label, path) = (image.label.to_string(), args.output.join(image.png_name()));
+            tiles.push(Tile { scene, label, path, on_disk: false });
         }
         figures.push((figure, tiles, args.output.join(format!("{}.png", figure.name))));
     }
     // One device, one set of compiled shaders and pipelines for every image, the pipelines built first.
     let scenes: Vec<&Scene> = figures.iter().flat_map(|(_, tiles, _)| tiles.iter().map(|tile| &tile.scene)).collect();
     let mut renderer = Renderer::for_scenes(options, &scenes)?;
-    let sheets: Vec<Sheet> =
-        figures.iter().map(|(figure, tiles, path)| Sheet { title: figure.title, tiles, columns: 4, path }).collect();
-    render_sheets(&mut renderer, &sheets)
+    let sheets: Vec<Sheet> = figures
+        .iter()
+        .map(|(figure, tiles, path)| Sheet {
+            title: figure.title,
+            tiles,
+            arrangement: Arrangement::Rows { columns: 4, fit_labels: false },
+            path: Some(path),
+        })
+        .collect();
+    render_sheets(Some(&mut renderer), &sheets)
 }

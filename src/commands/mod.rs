@@ -157,18 +157,14 @@ impl StudyArgs {
 }
 
 /// A PNG's pixels of the scene; for a term view, its scale is printed on standard output (the scale depends
-/// on the image: see `TermScale`).
+/// on the image: see `TermScale`), for an exact environment how exact it came out.
 pub fn render_png_pixels(renderer: &mut Renderer, scene: &Scene) -> vk_render::Result<image::RgbImage> {
-    if scene.image.view.is_radiance() {
-        let pixels = renderer.render_rgb8(scene)?;
-        print_accuracy(renderer);
-        return Ok(pixels);
+    let picture = renderer.render_picture(scene)?;
+    match &picture.scale {
+        Some(scale) => println!("{}", scale.describe()),
+        None => print_accuracy(renderer),
     }
-    let image = renderer.render(scene)?;
-    if let Some(scale) = image.term_scale(scene.image.view) {
-        println!("{}", scale.describe());
-    }
-    Ok(image.to_rgb8(&scene.image))
+    Ok(picture.pixels)
 }
 
 /// Says how exact the environment light of the last image is, when it was integrated in the exact mode.

@@ -144,7 +144,10 @@ pub fn render_with_samples(scene: &Scene, samples: u32) -> Result<ReferenceImage
             })
             .collect()
     };
-    let traced = crate::parallel::rows(height, trace_row);
+    // An interrupted reference traces no further rows, and is not returned.
+    let traced =
+        crate::parallel::rows(height, |y| if crate::interrupt::requested() { Vec::new() } else { trace_row(y) });
+    crate::interrupt::check()?;
     Ok(ReferenceImage {
         image: HdrImage { width, height, pixels: traced.iter().map(|t| t.0).collect() },
         object_ids: traced.iter().map(|t| t.1).collect(),

@@ -66,6 +66,7 @@ pub fn directional_albedos(
     let mut integrated: Vec<Vec<Integrated>> = vec![Vec::new(); jobs.len()];
     let mut pending: Vec<Cell> = theta_o.iter().enumerate().flat_map(|(job, &theta)| first_cells(job, theta)).collect();
     for _ in 0..=MAX_REFINEMENTS {
+        crate::interrupt::check()?;
         if pending.is_empty() {
             break;
         }

@@ -7,6 +7,7 @@ mod forward;
 pub mod gpu_types;
 mod occluders;
 mod passes;
+mod picture;
 mod probe;
 mod scene_data;
 mod shadow;
@@ -34,6 +35,7 @@ use forward::{ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuAlbedoEntry, GpuFrame, GpuObject, GpuPointLight};
 use occluders::{faces_with_occluders, occluders};
 use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
+pub use picture::Picture;
 use probe::{read_vec3s, ProbePass};
 pub use probe::{AlbedoCell, AlbedoJob, CellIntegral, ProbeCase};
 use scene_data::{SceneData, SceneImages, SceneValues};
@@ -291,6 +293,7 @@ impl Renderer {
         if scene.environment_light() == Some(EnvironmentMode::Exact) {
             let mut passes = Passes::new(scene.image.width, scene.image.height);
             while !passes.done(&scene.image) {
+                crate::interrupt::check()?;
                 self.add_pass(scene, &placed, &mut passes)?;
             }
             self.accuracy = Some(passes.accuracy(&scene.image));

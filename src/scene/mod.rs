@@ -14,7 +14,7 @@ use glam::{Mat4, Vec3};
 use crate::brdf::Brdf;
 use crate::error::{Error, Result};
 
-pub use overrides::Override;
+pub use overrides::{shortened, Override};
 
 /// The default `[image] shadow_map_size`: a 1024 x 1024 cube face is 0.09 degrees a texel, so a shadow
 /// edge on the course's plane (3 to 10 units from the light) is placed within 5 to 15 mm.
@@ -400,6 +400,22 @@ impl Scene {
         }
         validate::validate(raw, path).map_err(scene_error)
     }
+}
+
+/// The scene text with `overrides` written into it, as a TOML document: what `--set` makes of the file,
+/// for tools that keep a scene as text (the Python package's `Scene.with_set` and `Scene.to_toml`). The
+/// file's comments and layout are not kept.
+///
+/// # Errors
+/// As [`Scene::parse`] (the result is validated as a scene).
+pub fn overridden_text(text: &str, path: &Path, overrides: &[Override]) -> Result<String> {
+    let scene_error = |message: String| Error::Scene { file: path.to_path_buf(), message };
+    Scene::parse(text, path, overrides)?;
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| scene_error(toml_error(&e, text)))?;
+    if !overrides.is_empty() {
+        overrides::apply(&mut table, overrides).map_err(scene_error)?;
+    }
+    toml::to_string(&table).map_err(|e| scene_error(e.to_string()))
 }
 
 /// A TOML error of the scene `text` in one line: `line L, column C: KEY = VALUE: what is wrong`, the key

@@ -35,19 +35,27 @@ impl FromStr for Override {
         if path.is_empty() || path.split('.').any(str::is_empty) {
             return Err(format!("`{path}` is not a dotted key path (e.g. material.grey.sigma)"));
         }
-        let value_text = value_text.trim();
-        // One TOML value for one key: parsed as the document `v = VALUE`, which must then hold `v` alone
-        // (a newline and a second assignment is not a value). Text that is no TOML value at all, on one
-        // line, is taken as a string (`brdf=phong`, a path with spaces).
-        let value = match toml::from_str::<Table>(&format!("v = {value_text}")) {
-            Ok(mut document) if document.len() == 1 => document.remove("v").ok_or("no value")?,
-            Ok(_) => return Err(format!("--set {path}: `{}` holds more than one value", shortened(value_text))),
-            Err(_) if value_text.contains(['\n', '\r']) => {
-                return Err(format!("--set {path}: `{}` is not one TOML value", shortened(value_text)));
-            }
-            Err(_) => Value::String(value_text.to_string()),
-        };
+        let value = Self::parse_value(value_text).map_err(|e| format!("--set {path}: {e}"))?;
         Ok(Self { path: path.to_string(), value })
+    }
+}
+
+impl Override {
+    /// A value as `--set KEY=VALUE` and `sweep --values` take it (trimmed): one TOML value, parsed as the
+    /// document `v = VALUE`, which must then hold `v` alone (a newline and a second assignment is not a
+    /// value). Text that is no TOML value at all, on one line, is taken as a string (`brdf=phong`, a path
+    /// with spaces).
+    ///
+    /// # Errors
+    /// A message quoting the text (cut at 40 characters) when it holds several values or several lines.
+    pub fn parse_value(text: &str) -> Result<Value, String> {
+        let text = text.trim();
+        match toml::from_str::<Table>(&format!("v = {text}")) {
+            Ok(mut document) if document.len() == 1 => document.remove("v").ok_or_else(|| "no value".to_string()),
+            Ok(_) => Err(format!("`{}` holds more than one value", shortened(text))),
+            Err(_) if text.contains(['\n', '\r']) => Err(format!("`{}` is not one TOML value", shortened(text))),
+            Err(_) => Ok(Value::String(text.to_string())),
+        }
     }
 }
 

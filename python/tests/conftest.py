@@ -1,0 +1,43 @@
+"""What the Python tests share: the repository, the command-line binary they compare with, a renderer with
+the validation layer on (any message it reports fails the call, so every test that renders checks it)."""
+
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+import vk_render
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENES = ROOT / "assets" / "scenes"
+FIG1 = SCENES / "fig1-lambert.toml"
+BIN = Path(os.environ.get("VK_RENDER_BIN") or Path(os.environ.get("CARGO_TARGET_DIR") or ROOT / "target") / "release" / "vk-render")
+
+
+def cli(*args, check=True, **kwargs):
+    """Runs `vk-render --validate ARGS` from the repository's root; its CompletedProcess."""
+    done = subprocess.run(
+        [str(BIN), "--validate", *map(str, args)], cwd=ROOT, capture_output=True, text=True, **kwargs
+    )
+    if check and done.returncode != 0:
+        raise AssertionError(f"vk-render {' '.join(map(str, args))} failed ({done.returncode}):\n{done.stderr}")
+    return done
+
+
+@pytest.fixture(scope="session")
+def renderer():
+    """One renderer for the session, validating."""
+    return vk_render.Renderer(validate=True)
+
+
+@pytest.fixture(autouse=True)
+def validating_default(monkeypatch):
+    """The process-wide renderer validates too (made on first use, after this is set)."""
+    monkeypatch.setenv("VK_RENDER_VALIDATE", "1")
+
+
+@pytest.fixture
+def in_root(monkeypatch):
+    """Runs the test from the repository's root (relative scene paths, as the README's examples)."""
+    monkeypatch.chdir(ROOT)

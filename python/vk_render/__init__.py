@@ -1,0 +1,122 @@
+"""vk_render: classic BRDFs rendered through a real Vulkan rasterizer (Mesa's lavapipe, or any GPU), with
+numpy arrays in and out.
+
+    >>> import vk_render
+    >>> image = vk_render.render("assets/scenes/fig1-lambert.toml", set={"material.grey.kd": 0.8})
+    >>> image.shape, image.dtype
+    ((400, 600, 3), dtype('uint8'))
+
+The arrays are exactly the bytes of the PNG that `vk-render render` writes for the same arguments (or,
+with ``hdr=True``, the float32 values of its EXR). A `Renderer` keeps its device, shaders, pipelines and
+meshes between calls; `vk_render.render` uses one made on first use. `sweep` renders the product of a few
+parameters' values, here or on a Dask cluster.
+"""
+
+import os
+import threading
+
+import numpy as np
+
+from . import _native
+from ._errors import DeviceError, Error, SceneError
+from ._native import Grid, Renderer, Scene, devices
+from ._sweep import sweep
+
+__all__ = [
+    "Error",
+    "SceneError",
+    "DeviceError",
+    "Renderer",
+    "Scene",
+    "Grid",
+    "render",
+    "brdf",
+    "albedo",
+    "reference",
+    "check",
+    "sweep",
+    "devices",
+    "default_renderer",
+]
+__version__ = _native.__version__
+
+_default = None
+_default_lock = threading.Lock()
+
+
+def default_renderer():
+    """The process-wide Renderer of `render`, `brdf`, `albedo` and `check`, made on first use.
+
+    Its device is the default one, or the one named by the environment variable VK_RENDER_DEVICE (as
+    ``--device``); VK_RENDER_VALIDATE=1 turns the validation layer on.
+    """
+    global _default
+    with _default_lock:
+        if _default is None:
+            _default = Renderer(
+                device=os.environ.get("VK_RENDER_DEVICE") or None,
+                validate=os.environ.get("VK_RENDER_VALIDATE", "") not in ("", "0"),
+            )
+        return _default
+
+
+def render(scene, *, set=None, width=None, height=None, samples=None, view=None, hdr=False):
+    """Renders a scene with the process-wide renderer: see `Renderer.render`."""
+    return default_renderer().render(
+        scene, set=set, width=width, height=height, samples=samples, view=view, hdr=hdr
+    )
+
+
+def _directions(name, directions):
+    array = np.ascontiguousarray(directions, dtype=np.float32)
+    if array.ndim == 1:
+        array = array.reshape(1, -1)
+    if array.ndim != 2 or array.shape[1] != 3:
+        raise ValueError(f"{name}: expected unit directions of shape (N, 3), got {np.shape(directions)}")
+    return array
+
+
+def brdf(material, wi, wo, *, renderer=None):
+    """f_r(wi, wo) evaluated on the GPU by the shaders' own brdf_eval, as float32 (N, 3).
+
+    `material` is a dict in the scene format's words ({"brdf": "cook-torrance", "kd": [...], ...}) or a pair
+    (scene, "name"). `wi` and `wo` are unit directions, (N, 3) or (3,), in the frame whose normal is +z
+    (any float dtype).
+    """
+    renderer = renderer or default_renderer()
+    return renderer.brdf(material, _directions("wi", wi), _directions("wo", wo))
+
+
+def albedo(material, theta_o_degrees, *, renderer=None):
+    """The directional albedo at each theta_o (degrees, in [0, 90)), as `vk-render plot albedo` computes it:
+    returns (albedo float64 (N, 3), the largest error bound reached)."""
+    renderer = renderer or default_renderer()
+    angles = np.atleast_1d(np.asarray(theta_o_degrees, dtype=np.float64)).tolist()
+    return renderer.albedo(material, angles)
+
+
+def reference(scene, *, set=None, width=None, height=None, samples=None, hdr=False):
+    """The CPU ray tracer (vk-render's independent reference): the scene as a (height, width, 3) array,
+    uint8 after the output transform like `render`, or float32 with ``hdr=True``."""
+    return _native.reference(scene, set=set, width=width, height=height, samples=samples, hdr=hdr)
+
+
+def check(image, scene, *, set=None, renderer=None):
+    """Checks an image against a scene rendered at its size, as `vk-render check` does.
+
+    `image` is a (height, width, 3) uint8 array or a PNG/JPEG path; `scene` one of the practical's images
+    by name ("fig2-oren-nayar-sigma-0.4"), a scene file or a Scene. Returns a dict: "matches" (bool),
+    "verdict" ("matches", "mistake", "tie" or "unexplained"), "mistakes" (each with its name, explanation,
+    should_be and looks_like), "statistics" (rms, mean, p99 and over, in 8-bit levels, as check prints),
+    "regions" (the same per object and part), "tells_apart" (for a tie, the scene to render next) and
+    "exact" (the exact image).
+    """
+    renderer = renderer or default_renderer()
+    if not isinstance(image, (str, os.PathLike)):
+        image = np.asarray(image)
+        if image.ndim != 3 or image.shape[2] != 3:
+            raise ValueError(f"image: expected a (height, width, 3) array, got shape {image.shape}")
+        if image.dtype != np.uint8:
+            raise ValueError(f"image: expected uint8 levels, got {image.dtype}")
+        image = np.ascontiguousarray(image)
+    return renderer.check(image, scene, set=set)

@@ -1,0 +1,13 @@
+"""vk_render's exceptions (the Rust half raises these same classes)."""
+
+
+class Error(Exception):
+    """Anything vk-render reports: the root of its exceptions."""
+
+
+class SceneError(Error, ValueError):
+    """A bad scene, key or value: the message is the command line's one line, naming the file, key and value."""
+
+
+class DeviceError(Error, RuntimeError):
+    """No Vulkan, no usable device, a failed Vulkan call, or a validation-layer message (validate=True)."""

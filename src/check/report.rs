@@ -1,0 +1,111 @@
+//! A whole check of one image, as data: what `vk-render check` prints and the Python package's `check`
+//! returns are both read from a [`Checked`].
+
+use std::path::Path;
+
+use image::RgbImage;
+
+use super::catalogue::{Mistake, ShowsOn, CATALOGUE};
+use super::{diagnose, regions, render_candidates, scene_that_tells_apart, Candidate, Diagnosis, Region, Verdict};
+use crate::error::{Error, Result};
+use crate::figures::practical_image;
+use crate::render::Renderer;
+use crate::scene::{Override, Scene};
+
+/// The outcome of checking an image against a scene.
+pub struct Checked {
+    /// The exact render first, then each mistake's.
+    pub candidates: Vec<Candidate>,
+    pub diagnosis: Diagnosis,
+    /// The differences per object and region (lit body, unlit part, highlight, grazing band, open part).
+    pub regions: Vec<Region>,
+    /// For a tie: the practical's scene that tells the tied mistakes apart, and by how many levels their
+    /// renders differ there at least (`None` when no scene does, or there is no tie).
+    pub tells_apart: Option<(ShowsOn, f64)>,
+}
+
+impl Checked {
+    /// The exact image, at the checked image's size.
+    pub fn exact(&self) -> &RgbImage {
+        &self.candidates[0].image
+    }
+
+    /// Whether the image matches: within the tolerance and explained by no mistake.
+    pub fn matches(&self) -> bool {
+        self.diagnosis.against_exact.matches() && self.diagnosis.verdict == Verdict::Matches
+    }
+
+    /// The mistakes the diagnosis names: one, the tied ones, or none.
+    pub fn mistakes(&self) -> Vec<&'static Mistake> {
+        let names: &[&str] = match &self.diagnosis.verdict {
+            Verdict::Mistake(name) => std::slice::from_ref(name),
+            Verdict::Tie(names) => names,
+            Verdict::Matches | Verdict::Unexplained => &[],
+        };
+        names.iter().filter_map(|name| CATALOGUE.iter().find(|m| m.name == *name)).collect()
+    }
+}
+
+/// Checks `mine` against `scene` rendered at its size (the caller sized the scene): every mistake of the
+/// catalogue rendered, the diagnosis, the regions from the CPU reference's object ids, and for a tie the
+/// scene that tells the tied mistakes apart. `progress` hears how many renders of how many are done.
+///
+/// # Errors
+/// What rendering returns; `Error::Interrupted` when a stop was requested between renders.
+pub fn check_image(
+    renderer: &mut Renderer,
+    mine: &RgbImage,
+    scene: &Scene,
+    progress: impl FnMut(usize, usize),
+) -> Result<Checked> {
+    let mistakes: Vec<&'static Mistake> = CATALOGUE.iter().collect();
+    let candidates = render_candidates(renderer, scene, &mistakes, progress)?;
+    let diagnosis = diagnose(mine, &candidates);
+    let traced = crate::reference::render(scene)?;
+    let regions = regions(mine, &candidates[0].image, &traced.object_ids);
+    let mut checked = Checked { candidates, diagnosis, regions, tells_apart: None };
+    if matches!(checked.diagnosis.verdict, Verdict::Tie(_)) {
+        checked.tells_apart = scene_that_tells_apart(renderer, &checked.mistakes(), mine.dimensions())?;
+    }
+    Ok(checked)
+}
+
+/// The scene to check against: one of the practical's images by name, else a scene file (.toml).
+///
+/// # Errors
+/// `Error::Scene` for a name that is neither, and what loading the scene returns.
+pub fn scene_named(name: &str, overrides: &[Override]) -> Result<Scene> {
+    if let Some(image) = practical_image(name) {
+        return image.scene(overrides);
+    }
+    let path = Path::new(name);
+    if path.extension().is_none_or(|e| e != "toml") {
+        return Err(Error::Scene {
+            file: path.to_path_buf(),
+            message: format!(
+                "--scene {name}: neither a scene file (.toml) nor one of the practical's images (vk-render check --list)"
+            ),
+        });
+    }
+    Scene::load(path, overrides)
+}
+
+/// An image to check: PNG or JPEG, 8-bit RGB (alpha, if any, left out); grey-scale and 16-bit images are
+/// refused.
+///
+/// # Errors
+/// `Error::Input` naming the file.
+pub fn read_image(path: &Path) -> Result<RgbImage> {
+    let error = |message: String| Error::Input { path: path.to_path_buf(), message };
+    let bytes = crate::files::read_regular(path, "image", crate::files::MAX_IMAGE_BYTES).map_err(error)?;
+    let image = image::load_from_memory(&bytes)
+        .map_err(|e| error(format!("not a PNG or JPEG image vk-render can read: {e}")))?;
+    match image {
+        image::DynamicImage::ImageRgb8(rgb) => Ok(rgb),
+        image::DynamicImage::ImageRgba8(rgba) => Ok(image::DynamicImage::ImageRgba8(rgba).to_rgb8()),
+        other => Err(error(format!(
+            "a {:?} image; vk-render compares 8-bit RGB images, as the course's skeleton writes them",
+            other.color()
+        ))),
+    }
+}
