@@ -72,6 +72,7 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => return command_line_error(e),
     };
+    stop_quietly_on_a_closed_pipe();
     remove_partial_files_on_signals();
     let level = match cli.verbose {
         0 => log::LevelFilter::Warn,
@@ -108,6 +109,17 @@ fn command_line_error(e: clap::Error) -> ExitCode {
         .collect();
     eprintln!("{}", message.join(" "));
     ExitCode::from(2)
+}
+
+/// A reader that stops early (`vk-render furnace ... | head -3`) closes the pipe: like Unix tools, the
+/// process then ends quietly by SIGPIPE's default action at its next print. Rust starts programs with SIGPIPE
+/// ignored, which turns that print into a panic ("failed printing to stdout: Broken pipe") and exit status
+/// 101. The files a command writes are renamed into place whole or not at all, so none is left half-written.
+fn stop_quietly_on_a_closed_pipe() {
+    // SAFETY: called first thing in main, before any thread is started; SIG_DFL is a valid disposition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
 }
 
 /// On SIGINT or SIGTERM: the temporary files being written are removed, one line says so, and the process

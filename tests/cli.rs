@@ -786,3 +786,76 @@ fn figures_take_an_environment() {
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     assert_ne!(lit, image::open(plain.join("fig1-lambert.png")).unwrap().into_rgb8());
 }
+
+/// Every command that prints, its output read by a reader that closes the pipe at once (`| head -1`): it
+/// ends quietly, as Unix tools do (done, or ended by SIGPIPE), never with a panic's "Broken pipe" and a
+/// backtrace.
+#[test]
+fn every_printing_command_stops_quietly_on_a_closed_pipe() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = temp_dir();
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml").to_str().unwrap().to_string();
+    let materials = root().join("assets/analysis/course-materials.toml").to_str().unwrap().to_string();
+    let small = ["--width", "48", "--height", "32", "--samples", "1"];
+    let png = out("mine.png");
+    assert!(vk_render(&[&["render", &fig1, "-o", &png], &small[..]].concat()).status.success());
+    let (brdf, sheet, furnace, albedo, compared) =
+        (out("brdf.png"), out("s.png"), out("f.csv"), out("a.csv"), out("c.png"));
+    let commands: Vec<Vec<&str>> = vec![
+        vec!["devices"],
+        [&["render", &fig1, "--view", "brdf", "-o", &brdf][..], &small[..]].concat(),
+        [&["sweep", &fig1, "--param", "material.grey.kd", "--values", "0.2,0.4", "-o", &sheet][..], &small[..]]
+            .concat(),
+        [&["sheet", &fig1, "--param", "material.grey.kd", "--values", "0.2,0.4", "-o", &sheet][..], &small[..]]
+            .concat(),
+        vec!["furnace", &materials, "--material", "lambert", "-o", &furnace],
+        vec!["plot", "albedo", &materials, "--material", "lambert", "-o", &albedo],
+        vec!["fit", &materials, "--material", "phong", "--to", "blinn-phong"],
+        [&["compare", &fig1, &fig1, "-o", &compared][..], &small[..]].concat(),
+        vec!["check", "--list"],
+        vec!["check", &png, "--scene", "fig1-lambert"],
+    ];
+    for args in commands {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
+            .args(&args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("run vk-render");
+        drop(child.stdout.take()); // the reader is gone before the first line
+        let output = child.wait_with_output().expect("vk-render's output");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let quiet = output.status.success() || output.status.signal() == Some(13);
+        assert!(quiet && !stderr.contains("panicked"), "vk-render {args:?}: {:?}\n{stderr}", output.status);
+        assert!(!stderr.contains("Broken pipe"), "vk-render {args:?}: {stderr}");
+    }
+}
+
+/// `preview` with no display says so in one line, and how to get one; with a display where no server
+/// answers, that.
+#[cfg(feature = "preview")]
+#[test]
+fn a_preview_without_a_display_says_how_to_get_one() {
+    let fig1 = root().join("assets/scenes/fig1-lambert.toml");
+    let run = |display: Option<&str>| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_vk-render"));
+        command.args(["preview", fig1.to_str().unwrap()]).env_remove("WAYLAND_DISPLAY").env_remove("WAYLAND_SOCKET");
+        match display {
+            Some(display) => command.env("DISPLAY", display),
+            None => command.env_remove("DISPLAY"),
+        };
+        command.output().expect("run vk-render")
+    };
+    let none = run(None);
+    let stderr = String::from_utf8_lossy(&none.stderr);
+    assert_eq!(none.status.code(), Some(1));
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("no display: neither DISPLAY nor WAYLAND_DISPLAY is set"), "{stderr}");
+    assert!(stderr.contains("xvfb-run -a vk-render preview"), "{stderr}");
+    assert!(!stderr.contains(".rs:"), "a source path in: {stderr}");
+    let nobody = run(Some(":4711"));
+    let stderr = String::from_utf8_lossy(&nobody.stderr);
+    assert_eq!(nobody.status.code(), Some(1));
+    assert!(stderr.contains("no X server answers on DISPLAY=:4711") && !stderr.contains(".rs:"), "{stderr}");
+}

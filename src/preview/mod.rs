@@ -53,6 +53,20 @@ pub struct PreviewOptions {
     pub shaders: Option<PathBuf>,
 }
 
+/// Why no window could be opened, in one line that says how to get a display (winit's own message names
+/// its source files; it is logged for -v).
+fn no_window(error: &winit::error::EventLoopError) -> Error {
+    log::info!("winit: {error}");
+    let set = |name: &str| std::env::var(name).ok().filter(|v| !v.is_empty());
+    let hint = "run it in a desktop session, or under a virtual X server: xvfb-run -a vk-render preview SCENE \
+                (Debian package xvfb)";
+    Error::Preview(match (set("DISPLAY"), set("WAYLAND_DISPLAY").or_else(|| set("WAYLAND_SOCKET"))) {
+        (None, None) => format!("no display: neither DISPLAY nor WAYLAND_DISPLAY is set; {hint}"),
+        (Some(display), None) => format!("cannot open a window: no X server answers on DISPLAY={display}; {hint}"),
+        (_, Some(wayland)) => format!("cannot open a window on the Wayland display {wayland}; {hint}"),
+    })
+}
+
 /// Opens the window and runs until it is closed, Esc is pressed or `frames` frames were presented.
 ///
 /// # Errors
@@ -61,7 +75,7 @@ pub struct PreviewOptions {
 /// last good one kept.
 pub fn run(options: PreviewOptions) -> Result<()> {
     let scene = Scene::load(&options.scene, &options.overrides)?;
-    let event_loop = EventLoop::new().map_err(|e| Error::Preview(format!("cannot open a window: {e}")))?;
+    let event_loop = EventLoop::new().map_err(|e| no_window(&e))?;
     let mut app = App { options, scene: Some(scene), running: None, error: None, pace: FramePace::default() };
     event_loop.run_app(&mut app).map_err(|e| Error::Preview(format!("the window's event loop failed: {e}")))?;
     if let Some(error) = app.error {
