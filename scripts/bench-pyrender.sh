@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # vk-render against its peer, pyrender 0.1.45 (OpenGL through EGL on the same Mesa llvmpipe), on the same
-# scenes, in one run on one machine: prints each measure of both and their ratio, against the ratio that
-# issue 9 asks for. Medians throughout; the machine is shared and noisy, so only the ratios matter.
+# scenes, in one run on one machine: prints each measure of both and their ratio, against the target in its
+# last column. Medians throughout; the machine is shared and noisy, so only the ratios matter.
 #
 #   sweep image     one more image of `vk-render sweep` over Figure 1's grey kd (600 x 400, 4 samples,
 #                   shadows on, each image written to a PNG): (sweep of 2 + N values - sweep of 2) / N
