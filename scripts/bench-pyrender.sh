@@ -45,10 +45,11 @@ seconds() {
 # The median of $runs runs of a command, in seconds.
 median_seconds() { for _ in $(seq "$runs"); do seconds "$@"; done | median; }
 
-# Milliseconds per frame of a preview orbiting for $frames frames (the frame pace line it prints).
+# Milliseconds per frame of a preview orbiting for $frames frames: its motion frames, from the frame pace
+# line it prints ("...; N moving frames, X ms each", each from the frame before it).
 preview_ms() {
     xvfb-run -a -s "-screen 0 1280x1024x24" "$bin" preview "$1" --frames "$frames" --keys "Orbit*$frames" 2>&1 |
-        sed -n 's/^presented .* (\([0-9.]*\) frames\/s)$/\1/p' | awk '{ printf "%.2f\n", 1000 / $1 }'
+        sed -n 's/^presented .*; [0-9]* moving frames, \([0-9.]*\) ms each$/\1/p'
 }
 
 echo "pyrender: $("$python" -c 'import pyrender; print(pyrender.__version__)'), vk-render: $("$bin" --version)" >&2

@@ -204,3 +204,63 @@ fn with_an_environment_a_moving_frame_is_fast_and_a_still_one_refines_to_the_exa
 fn parsed(overrides: &[&str]) -> Vec<vk_render::Override> {
     overrides.iter().map(|o| o.parse().unwrap()).collect()
 }
+
+/// Figure 1 at 320 x 240 with its camera orbited `steps` times, as the preview's Orbit step turns it.
+fn orbited(steps: u32) -> Scene {
+    use vk_render::preview::{Controls, ORBIT_STEP_PIXELS};
+    let mut scene = asset_scene("fig1-lambert.toml", &["image.width=320", "image.height=240"]);
+    let mut controls = Controls::new(&scene);
+    for _ in 0..steps {
+        controls.orbit.drag(ORBIT_STEP_PIXELS, 0.0);
+    }
+    scene.camera.position = controls.orbit.position(scene.camera.look_at);
+    scene
+}
+
+/// A motion frame of `scene`, as the preview draws it: the motion scene rendered offscreen, scaled up.
+fn motion_frame(scene: &Scene) -> image::RgbImage {
+    let small_scene = vk_render::preview::motion_scene(scene);
+    let small = render(&small_scene).to_rgb8(&small_scene.image);
+    let (width, height) = (scene.image.width, scene.image.height);
+    let mut texels = vec![0; (width * height * 3) as usize];
+    vk_render::preview::scale_up(small.as_raw(), small.dimensions(), &mut texels, (width, height), 3);
+    image::RgbImage::from_raw(width, height, texels).unwrap()
+}
+
+#[test]
+fn while_the_camera_moves_motion_frames_and_once_still_the_offscreen_render() {
+    use vk_render::preview::{MOTION_SAMPLES, MOTION_SCALE, SETTLE_FRAMES};
+    const { assert!(MOTION_SCALE >= 2 && MOTION_SAMPLES == 1 && SETTLE_FRAMES >= 2) };
+    // Orbit, Orbit, then S (a screenshot of that frame, into the working folder) while it still moves; the
+    // run then settles: its last frame, past the count, is the exact render at the orbited camera.
+    let folder = temp_dir();
+    let shot = folder.path().join("shot.png");
+    let scene = root().join("assets/scenes/fig1-lambert.toml");
+    let (mut command, _runtime) = preview_command(&[
+        scene.to_str().unwrap(),
+        "--frames",
+        "4",
+        "--screenshot",
+        shot.to_str().unwrap(),
+        "--width",
+        "320",
+        "--height",
+        "240",
+        "--keys",
+        "Orbit,Orbit,s,Orbit",
+    ]);
+    let output = command.current_dir(folder.path()).output().expect("xvfb-run");
+    succeeded(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    // The first frame is still (nothing moved yet); frames 2 to 4 move, then SETTLE_FRAMES - 1 more motion
+    // frames before the still one: every motion frame counted, the run longer than asked.
+    let moving = 3 + SETTLE_FRAMES - 1;
+    assert!(stderr.contains(&format!("presented {} frames", 1 + moving + 1)), "{stderr}");
+    assert!(stderr.contains(&format!("; {moving} moving frames, ")), "{stderr}");
+    let settled = image::open(&shot).unwrap().into_rgb8();
+    assert_same(&settled, &render(&orbited(3)).to_rgb8(&orbited(3).image), "the settled frame");
+    // The frame S saved (the third: two orbits, then nothing moved for one frame) is the motion frame.
+    let moving_shot = image::open(folder.path().join("vk-render-screenshot-1.png")).unwrap().into_rgb8();
+    assert_same(&moving_shot, &motion_frame(&orbited(2)), "the motion frame");
+    assert_ne!(moving_shot, render(&orbited(2)).to_rgb8(&orbited(2).image), "a motion frame is cheaper");
+}

@@ -24,6 +24,7 @@ use winit::keyboard::Key;
 use winit::window::{Window, WindowId};
 
 pub use controls::{key_action, parse_script, Action, Controls, Orbit, ScriptStep, ORBIT_STEP_PIXELS};
+pub use refine::{motion_scene, scale_up, MOTION_SAMPLES, MOTION_SCALE, SETTLE_FRAMES};
 
 use crate::analysis::lobe3d::lobe_on_object;
 use crate::error::{Error, Result};
@@ -87,17 +88,24 @@ pub fn run(options: PreviewOptions) -> Result<()> {
     Ok(())
 }
 
-/// When frames were presented: how many, and the first and the last one's time.
+/// When frames were presented: how many, and the first and the last one's time; how many were motion
+/// frames, and the time from the frame before each of them to it.
 #[derive(Clone, Copy, Debug, Default)]
 struct FramePace {
     presented: u64,
     first: Option<Instant>,
     last: Option<Instant>,
+    moving: u64,
+    moving_time: Duration,
 }
 
 impl FramePace {
-    fn presented_one(&mut self) {
+    fn presented_one(&mut self, moving: bool) {
         let now = Instant::now();
+        if let (true, Some(before)) = (moving, self.last) {
+            self.moving += 1;
+            self.moving_time += now - before;
+        }
         self.presented += 1;
         self.first.get_or_insert(now);
         self.last = Some(now);
@@ -106,14 +114,20 @@ impl FramePace {
 
 impl std::fmt::Display for FramePace {
     /// "presented N frames in T s (F frames/s)", T from the first frame presented to the last, so that
-    /// start-up is not in it, and F the N - 1 frames after the first over T.
+    /// start-up is not in it, and F the N - 1 frames after the first over T; then, if some were motion
+    /// frames, "; M moving frames, X ms each" (each from the frame before it).
     fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
         let seconds = match (self.first, self.last) {
             (Some(first), Some(last)) => (last - first).as_secs_f64(),
             _ => 0.0,
         };
         let rate = if seconds > 0.0 { (self.presented - 1) as f64 / seconds } else { 0.0 };
-        write!(f, "presented {} frames in {seconds:.3} s ({rate:.1} frames/s)", self.presented)
+        write!(f, "presented {} frames in {seconds:.3} s ({rate:.1} frames/s)", self.presented)?;
+        if self.moving > 0 {
+            let each = self.moving_time.as_secs_f64() * 1e3 / self.moving as f64;
+            write!(f, "; {} moving frames, {each:.2} ms each", self.moving)?;
+        }
+        Ok(())
     }
 }
 
@@ -192,7 +206,7 @@ impl ApplicationHandler for App {
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         let Some(running) = self.running.as_mut() else { return };
         running.hot_reload();
-        let refining = refine::refining(&running.refinement);
+        let refining = running.frames.unfinished();
         if running.options_frames.is_some() || running.deadline.is_some() || !running.script.is_empty() || refining {
             // Headless runs draw frame after frame until done; a still image refines frame after frame.
             running.window.request_redraw();
@@ -244,8 +258,8 @@ struct Running {
     /// The lobe shown (B): the scene and the object it was made for, and its objects, made again when either
     /// changes (the camera included: the lobe stands where the camera sees it best).
     lobe: Option<((Scene, usize), Vec<Object>)>,
-    /// The exact passes of the environment light of the still image (refine.rs).
-    refinement: Option<refine::Refinement>,
+    /// What the frames so far drew: motion or still, the environment's exact passes (refine.rs).
+    frames: refine::Frames,
     /// What the last frame showed of the environment, for the title.
     shown: refine::Shown,
 }
@@ -290,7 +304,7 @@ impl Running {
             watched: Watched::new(&options.scene, options.shaders.clone()),
             window,
             lobe: None,
-            refinement: None,
+            frames: refine::Frames::default(),
             shown: refine::Shown::Render,
         })
     }
@@ -372,17 +386,20 @@ impl Running {
             self.swapchain = Some(Swapchain::new(self.renderer.device(), &self.surface, size.width, size.height)?);
         }
         let started = Instant::now();
-        let last = self.options_frames.is_some_and(|n| self.pace.presented + 1 >= n)
-            || self.deadline.is_some_and(|deadline| Instant::now() >= deadline);
+        let counted = self.options_frames.is_some_and(|n| self.pace.presented + 1 >= n);
+        let timed_out = self.deadline.is_some_and(|deadline| Instant::now() >= deadline);
+        let last = counted || timed_out;
         let screenshot =
             self.screenshot_next.take().or_else(|| if last { self.screenshot_at_exit.clone() } else { None });
         if !self.present(screenshot.as_deref())? {
             return Ok(()); // the swapchain went out of date: made anew on the next frame
         }
-        self.pace.presented_one();
+        self.pace.presented_one(self.shown == refine::Shown::Moving);
         let frame_ms = started.elapsed().as_secs_f64() * 1e3;
         self.window.set_title(&format!("{}{}", self.controls.title(&self.scene, frame_ms), self.shown.describe()));
-        if last {
+        // A counted run ends on a still frame, its screenshot the exact image: past its count, the motion
+        // frames go on (each saved over the last) until the scene has settled.
+        if timed_out || (counted && self.shown != refine::Shown::Moving) {
             event_loop.exit();
         }
         Ok(())
@@ -427,7 +444,7 @@ impl Running {
         let bgra = swapchain.format == vk::Format::B8G8R8A8_UNORM;
         let order = if bgra { TexelOrder::Bgra } else { TexelOrder::Rgba };
         let frame = shown.as_ref().unwrap_or(&self.scene);
-        match refine::render_frame(&mut self.renderer, &mut self.refinement, frame, order, upload.bytes_mut()?) {
+        match refine::render_frame(&mut self.renderer, &mut self.frames, frame, order, upload.bytes_mut()?) {
             Ok(shown) => {
                 self.shown = shown;
                 self.last_good = self.scene.clone();
