@@ -37,7 +37,7 @@ use scene::{resolve, PyScene};
 ///
 /// Each call releases the GIL while the device works: two threads with a renderer each render at once.
 /// A renderer used from several threads renders for one at a time.
-#[pyclass(module = "vk_render._native", name = "Renderer", frozen)]
+#[pyclass(module = "vk_render._native", name = "Renderer", frozen, subclass)]
 struct PyRenderer {
     renderer: Mutex<Renderer>,
     device: String,

@@ -36,6 +36,8 @@ def test_the_gpu_brdf_is_the_rust_mirror(renderer, name):
     assert gpu.dtype == np.float32 and gpu.shape == (500, 3)
     assert np.all(np.isfinite(gpu)) and gpu.max() > 0
     np.testing.assert_allclose(gpu, mirror, rtol=2e-4, atol=1e-6)
+    # Any float dtype and nested lists are the same directions.
+    assert np.array_equal(renderer.brdf(MATERIALS[name], wi.astype(np.float64), wo.tolist()), gpu)
 
 
 def test_lambert_is_kd_over_pi_and_its_albedo_kd(renderer):

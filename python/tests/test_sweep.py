@@ -118,13 +118,15 @@ def test_a_grid_on_dask_is_the_serial_grid_with_one_renderer_per_worker(cluster,
 
 def test_a_worker_killed_in_the_middle_costs_nothing(cluster, renderer, tmp_path):
     grid = {"material.grey.kd": [round(0.04 * i, 2) for i in range(1, 21)], "light.0.power": [30, 60]}
-    serial = vk_render.sweep(FIG1, grid, set=SMALL, renderer=renderer)
+    # Larger images than the other tests', so that the kill lands while tasks are still to run.
+    sets = {"image.width": 200, "image.height": 150, "image.samples": 4}
+    serial = vk_render.sweep(FIG1, grid, set=sets, renderer=renderer)
     pids = cluster.run(os.getpid)
     out = tmp_path / "tiles"
     done = {}
 
     def spread():
-        done["records"] = vk_render.sweep(FIG1, grid, set=SMALL, client=cluster, out=out, validate=True)
+        done["records"] = vk_render.sweep(FIG1, grid, set=sets, client=cluster, out=out, validate=True)
 
     sweeping = threading.Thread(target=spread)
     sweeping.start()
@@ -134,10 +136,12 @@ def test_a_worker_killed_in_the_middle_costs_nothing(cluster, renderer, tmp_path
         time.sleep(0.005)
     victim = sorted(pids.values())[0]
     os.kill(victim, signal.SIGKILL)
+    written_before_the_kill = len(os.listdir(out))
     sweeping.join(timeout=120)
     assert not sweeping.is_alive()
     records = done["records"]
     assert len(records) == 40
+    assert written_before_the_kill < 40, "the sweep was over before the kill"
     for record, expected in zip(records, serial):
         assert np.array_equal(vk_render._native.read_image(record["path"]), expected["image"]), record["path"]
     # The killed worker is gone and was replaced.

@@ -19,7 +19,7 @@ import numpy as np
 
 from . import _native
 from ._errors import DeviceError, Error, SceneError
-from ._native import Grid, Renderer, Scene, devices
+from ._native import Grid, Scene, devices
 from ._sweep import sweep
 
 __all__ = [
@@ -76,23 +76,50 @@ def _directions(name, directions):
     return array
 
 
-def brdf(material, wi, wo, *, renderer=None):
-    """f_r(wi, wo) evaluated on the GPU by the shaders' own brdf_eval, as float32 (N, 3).
+def _rgb_image(image):
+    if isinstance(image, (str, os.PathLike)):
+        return image
+    array = np.asarray(image)
+    if array.ndim != 3 or array.shape[2] != 3:
+        raise ValueError(f"image: expected a (height, width, 3) array, got shape {array.shape}")
+    if array.dtype != np.uint8:
+        raise ValueError(f"image: expected uint8 levels, got {array.dtype}")
+    return np.ascontiguousarray(array)
 
-    `material` is a dict in the scene format's words ({"brdf": "cook-torrance", "kd": [...], ...}) or a pair
-    (scene, "name"). `wi` and `wo` are unit directions, (N, 3) or (3,), in the frame whose normal is +z
-    (any float dtype).
-    """
-    renderer = renderer or default_renderer()
-    return renderer.brdf(material, _directions("wi", wi), _directions("wo", wo))
+
+class Renderer(_native.Renderer):
+    __doc__ = _native.Renderer.__doc__
+
+    def brdf(self, material, wi, wo):
+        """f_r(wi, wo) evaluated on the GPU by the shaders' own brdf_eval (the probe pass), as float32 (N, 3).
+
+        `material` is a dict in the scene format's words ({"brdf": "cook-torrance", "kd": [...], ...}) or a
+        pair (scene, "name"). `wi` and `wo` are unit directions, (N, 3) or (3,) of any float dtype, in the
+        frame whose normal is +z.
+        """
+        return super().brdf(material, _directions("wi", wi), _directions("wo", wo))
+
+    def albedo(self, material, theta_o_degrees):
+        """The directional albedo at each theta_o (degrees, in [0, 90)), as `vk-render plot albedo` computes
+        it (adaptive Gauss-Kronrod cubature of brdf_eval on the GPU): (albedo float64 (N, 3), the largest
+        error bound reached)."""
+        angles = np.atleast_1d(np.asarray(theta_o_degrees, dtype=np.float64)).tolist()
+        return super().albedo(material, angles)
+
+    def check(self, image, scene, *, set=None):
+        """Checks an image against a scene rendered at its size, as `vk-render check` does: see
+        `vk_render.check`."""
+        return super().check(_rgb_image(image), scene, set=set)
+
+
+def brdf(material, wi, wo, *, renderer=None):
+    """f_r(wi, wo) on the GPU with the process-wide renderer (or `renderer`): see `Renderer.brdf`."""
+    return (renderer or default_renderer()).brdf(material, wi, wo)
 
 
 def albedo(material, theta_o_degrees, *, renderer=None):
-    """The directional albedo at each theta_o (degrees, in [0, 90)), as `vk-render plot albedo` computes it:
-    returns (albedo float64 (N, 3), the largest error bound reached)."""
-    renderer = renderer or default_renderer()
-    angles = np.atleast_1d(np.asarray(theta_o_degrees, dtype=np.float64)).tolist()
-    return renderer.albedo(material, angles)
+    """The directional albedo with the process-wide renderer (or `renderer`): see `Renderer.albedo`."""
+    return (renderer or default_renderer()).albedo(material, theta_o_degrees)
 
 
 def reference(scene, *, set=None, width=None, height=None, samples=None, hdr=False):
@@ -111,12 +138,4 @@ def check(image, scene, *, set=None, renderer=None):
     "regions" (the same per object and part), "tells_apart" (for a tie, the scene to render next) and
     "exact" (the exact image).
     """
-    renderer = renderer or default_renderer()
-    if not isinstance(image, (str, os.PathLike)):
-        image = np.asarray(image)
-        if image.ndim != 3 or image.shape[2] != 3:
-            raise ValueError(f"image: expected a (height, width, 3) array, got shape {image.shape}")
-        if image.dtype != np.uint8:
-            raise ValueError(f"image: expected uint8 levels, got {image.dtype}")
-        image = np.ascontiguousarray(image)
-    return renderer.check(image, scene, set=set)
+    return (renderer or default_renderer()).check(image, scene, set=set)

@@ -86,14 +86,16 @@ class Renderer:
         hdr: bool = False,
     ) -> npt.NDArray[Any]:
         """(height, width, 3): uint8, the PNG's bytes of `vk-render render`; float32 with hdr=True, its EXR."""
-    def brdf(
-        self, material: Material, wi: npt.NDArray[np.float32], wo: npt.NDArray[np.float32]
-    ) -> npt.NDArray[np.float32]:
-        """f_r(wi, wo) by the shaders' brdf_eval on the GPU, (N, 3); directions (N, 3) float32, normal +z."""
-    def albedo(self, material: Material, theta_o_degrees: Sequence[float]) -> Tuple[npt.NDArray[np.float64], float]:
+    def brdf(self, material: Material, wi: npt.ArrayLike, wo: npt.ArrayLike) -> npt.NDArray[np.float32]:
+        """f_r(wi, wo) by the shaders' brdf_eval on the GPU, (N, 3); unit directions (N, 3), normal +z."""
+    def albedo(self, material: Material, theta_o_degrees: npt.ArrayLike) -> Tuple[npt.NDArray[np.float64], float]:
         """Directional albedo (N, 3) at each theta_o in degrees, and the largest error bound reached."""
     def check(
-        self, image: Union[npt.NDArray[np.uint8], PathLike], scene: Union[str, SceneLike], *, set: Optional[Mapping[str, Any]] = None
+        self,
+        image: Union[npt.NDArray[np.uint8], PathLike],
+        scene: Union[str, SceneLike],
+        *,
+        set: Optional[Mapping[str, Any]] = None,
     ) -> CheckReport:
         """`vk-render check` of an image against a scene rendered at its size."""
 

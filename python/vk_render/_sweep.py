@@ -24,7 +24,9 @@ def _renderer(options):
     key = tuple(sorted(options.items()))
     with _renderers_lock:
         if key not in _renderers:
-            _renderers[key] = _native.Renderer(**options)
+            from . import Renderer
+
+            _renderers[key] = Renderer(**options)
             renderers_made += 1
         return _renderers[key]
 
@@ -75,7 +77,8 @@ def sweep(
     nothing is rendered or written.
 
     Returns one record per combination, in order: ``{"params": {key: value}, "label": ..., "image":
-    array}``, or with `out` (a folder, made if missing) ``"path"`` instead of ``"image"``: the tile written
+    array}``, or with `out` (a folder, made if missing; on a cluster, one every worker can write: a shared
+    file system) ``"path"`` instead of ``"image"``: the tile written
     there as ``NAME-VALUE.png`` (one key) or ``NAME-key=value-key=value.png``, the names `vk-render sweep -o
     OUT/NAME.png` gives, so that ``vk-render sheet`` assembles them. With `resume`, tiles already whole in
     `out` are not rendered again. `shard=(k, n)` renders only the k-th of n fixed shares (``--shard K/N``).
