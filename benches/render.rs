@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use vk_render::output::TexelOrder;
-use vk_render::preview::{Controls, ORBIT_STEP_PIXELS};
+use vk_render::preview::{draw_motion_frame, Controls, ORBIT_STEP_PIXELS};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 
 fn median(mut samples: Vec<Duration>) -> Duration {
@@ -85,6 +85,14 @@ fn main() -> vk_render::Result<()> {
             renderer.render_texels(&frame, TexelOrder::Bgra, &mut texels)
         })?;
         println!("  {:<54} {:>10.1} ms", format!("preview frame orbiting, {name} (render and encode)"), ms(t));
+        // What the window shows while the camera moves: the motion frame, rendered small and scaled up.
+        let mut small = Vec::new();
+        let t = time(15, || {
+            controls.orbit.drag(ORBIT_STEP_PIXELS, 0.0);
+            frame.camera.position = controls.orbit.position(frame.camera.look_at);
+            draw_motion_frame(&mut renderer, &mut small, &frame, TexelOrder::Bgra, &mut texels)
+        })?;
+        println!("  {:<54} {:>10.1} ms", format!("preview motion frame orbiting, {name}"), ms(t));
     }
 
     scaling(&mut renderer)

@@ -24,7 +24,7 @@ use winit::keyboard::Key;
 use winit::window::{Window, WindowId};
 
 pub use controls::{key_action, parse_script, Action, Controls, Orbit, ScriptStep, ORBIT_STEP_PIXELS};
-pub use refine::{motion_scene, scale_up, MOTION_SAMPLES, MOTION_SCALE, SETTLE_FRAMES};
+pub use refine::{draw_motion_frame, motion_scene, scale_up, MOTION_SAMPLES, MOTION_SCALE, SETTLE_FRAMES};
 
 use crate::analysis::lobe3d::lobe_on_object;
 use crate::error::{Error, Result};
