@@ -43,6 +43,20 @@ pub fn scene_error(py: Python<'_>, message: String) -> PyErr {
     exception(py, "SceneError", message)
 }
 
+/// Issues each of the scene's warnings as a `vk_render.SceneWarning` (Python's warnings module shows each
+/// once per place, as `vk-render` prints them once per command).
+pub fn warn(py: Python<'_>, warnings: Vec<String>) -> PyResult<()> {
+    if warnings.is_empty() {
+        return Ok(());
+    }
+    let category = py.import("vk_render._errors")?.getattr("SceneWarning")?;
+    for warning in warnings {
+        let text = std::ffi::CString::new(warning.replace('\0', " ")).unwrap_or_default();
+        PyErr::warn(py, &category, &text, 1)?;
+    }
+    Ok(())
+}
+
 /// vk_render.Error with `message`.
 pub fn error(py: Python<'_>, message: String) -> PyErr {
     exception(py, "Error", message)

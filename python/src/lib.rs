@@ -172,6 +172,22 @@ impl PyRenderer {
         &self.device
     }
 
+    /// How exact the last image's environment light was, when it was integrated in the exact mode (what
+    /// `vk-render render` prints): a dict with "samples" (a pixel), "passes" and "p99_levels" (the standard
+    /// error at 99% of the pixels, in 8-bit levels); None for any other image.
+    #[getter]
+    fn accuracy<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        // The GIL released while the lock is awaited: a render of another thread may hold it.
+        let accuracy =
+            py.allow_threads(|| self.renderer.lock().unwrap_or_else(std::sync::PoisonError::into_inner).accuracy());
+        let Some(accuracy) = accuracy else { return Ok(None) };
+        let entry = PyDict::new(py);
+        entry.set_item("samples", accuracy.samples)?;
+        entry.set_item("passes", accuracy.passes)?;
+        entry.set_item("p99_levels", accuracy.p99_levels)?;
+        Ok(Some(entry))
+    }
+
     /// Renders a scene (a path or a Scene) to a numpy array of shape (height, width, 3).
     ///
     /// Without `hdr`: uint8, exactly the bytes of the PNG that `vk-render render` writes for the same
@@ -192,6 +208,7 @@ impl PyRenderer {
         hdr: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         let scene = resolve(py, scene, &call_overrides(py, set, width, height, samples, view)?)?;
+        errors::warn(py, scene.warnings())?;
         let size = (scene.image.width, scene.image.height);
         if hdr {
             let image = self.with(py, |r| r.render(&scene))?;

@@ -124,3 +124,36 @@ def test_the_reference_is_the_ray_tracer_of_the_command_line(tmp_path):
     assert np.array_equal(traced, vk_render._native.read_image(out))
     rendered = vk_render.render(FIG1, width=120, height=80)
     assert np.abs(traced.astype(int) - rendered.astype(int)).mean() < 1.0
+
+
+def test_a_scenes_warnings_are_python_warnings(renderer, tmp_path):
+    dark = """
+[material.grey]
+brdf = "lambert"
+kd = [0.5, 0.5, 0.5]
+[[object]]
+shape = "sphere"
+center = [0.0, 0.0, 3.0]
+radius = 1.0
+material = "grey"
+"""
+    scene = vk_render.Scene.from_toml(dark)
+    assert scene.warnings and "no [[light]]" in scene.warnings[0]
+    assert scene.lights == []
+    with pytest.warns(vk_render.SceneWarning, match=r"the scene has no \[\[light\]\]: every object is black"):
+        image = renderer.render(scene, width=40, height=30)
+    assert image[15, 20].tolist() == [0, 0, 0]
+
+
+def test_the_exact_modes_accuracy_is_what_render_prints(renderer, tmp_path):
+    sky = {"environment.builtin": "sky", "environment.mode": "exact"}
+    renderer.render(FIG1, width=48, height=32, set=sky)
+    accuracy = renderer.accuracy
+    printed = cli("render", FIG1, "-o", tmp_path / "sky.png", "--width", "48", "--height", "32",
+                  "--set", 'environment.builtin="sky"', "--set", 'environment.mode="exact"').stdout
+    assert printed.startswith(
+        f"environment (exact): {accuracy['samples']} samples a pixel in {accuracy['passes']} passes: "
+        f"standard error at most {accuracy['p99_levels']:.2f} of an 8-bit level"
+    ), (printed, accuracy)
+    renderer.render(FIG1, width=48, height=32)
+    assert renderer.accuracy is None

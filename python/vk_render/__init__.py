@@ -18,7 +18,7 @@ import threading
 import numpy as np
 
 from . import _native
-from ._errors import DeviceError, Error, SceneError
+from ._errors import DeviceError, Error, SceneError, SceneWarning
 from ._native import Grid, Scene, devices
 from ._sweep import sweep
 
@@ -26,6 +26,7 @@ __all__ = [
     "Error",
     "SceneError",
     "DeviceError",
+    "SceneWarning",
     "Renderer",
     "Scene",
     "Grid",

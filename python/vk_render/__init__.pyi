@@ -7,6 +7,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ._errors import DeviceError as DeviceError, Error as Error, SceneError as SceneError
+from ._errors import SceneWarning as SceneWarning
 from ._native import (
     CheckReport,
     Grid as Grid,

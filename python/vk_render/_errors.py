@@ -11,3 +11,8 @@ class SceneError(Error, ValueError):
 
 class DeviceError(Error, RuntimeError):
     """No Vulkan, no usable device, a failed Vulkan call, or a validation-layer message (validate=True)."""
+
+
+class SceneWarning(UserWarning):
+    """What is legal in a scene but probably not meant (no object, no light, a term view some objects cannot
+    show): the warnings `vk-render` prints, issued through Python's warnings module when a scene renders."""

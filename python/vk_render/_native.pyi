@@ -74,6 +74,9 @@ class Renderer:
     @property
     def device(self) -> str:
         """The name of the Vulkan device this renderer draws with."""
+    @property
+    def accuracy(self) -> Optional[dict[str, Any]]:
+        """How exact the last image's environment light was (exact mode): samples, passes, p99_levels."""
     def render(
         self,
         scene: SceneLike,
