@@ -20,7 +20,7 @@ use vk_render::brdf::Brdf;
 use vk_render::check::report::{check_image, scene_named};
 use vk_render::check::Verdict;
 use vk_render::render::ProbeCase;
-use vk_render::scene::View;
+use vk_render::scene::{Shorthands, View};
 use vk_render::vulkan::{list_devices, preferred_device, Instance};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 
@@ -67,15 +67,7 @@ fn call_overrides(
     samples: Option<i64>,
     view: Option<&str>,
 ) -> PyResult<Vec<Override>> {
-    let mut all = Vec::new();
-    for (key, value) in [("width", width), ("height", height), ("samples", samples)] {
-        if let Some(value) = value {
-            all.push(Override::new(format!("image.{key}"), value));
-        }
-    }
-    if let Some(view) = view {
-        all.push(Override::new("image.view", view));
-    }
+    let mut all = Shorthands { width, height, samples, view, environment_mode: None }.overrides();
     all.extend(overrides(py, set)?);
     Ok(all)
 }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use vk_render::scene::{overridden_text, Shape};
+use vk_render::scene::{overridden, Shape};
 use vk_render::{Override, Scene};
 
 use crate::convert::overrides;
@@ -76,13 +76,13 @@ impl PyScene {
     /// `--set material.grey.kd=0.8 --set image.width=300` replaces them (in the dict's order).
     fn with_set(&self, py: Python<'_>, set: &Bound<'_, PyDict>) -> PyResult<Self> {
         let more = overrides(py, Some(set))?;
-        let text = overridden_text(&self.text, &self.path, &more).map_err(|e| to_py(py, e))?;
-        Self::from_text(text, self.path.clone()).map_err(|e| to_py(py, e))
+        let (scene, text) = overridden(&self.text, &self.path, &more).map_err(|e| to_py(py, e))?;
+        Ok(Self { text, path: self.path.clone(), scene })
     }
 
     /// The scene as TOML text (values set by `with_set` included; the file's comments are not kept).
     fn to_toml(&self, py: Python<'_>) -> PyResult<String> {
-        overridden_text(&self.text, &self.path, &[]).map_err(|e| to_py(py, e))
+        Ok(overridden(&self.text, &self.path, &[]).map_err(|e| to_py(py, e))?.1)
     }
 
     /// The file the scene was read from (or `base_dir/<toml>` for `from_toml`).

@@ -22,7 +22,7 @@ use clap::Args;
 use vk_render::analysis::{select_materials, NamedBrdf};
 use vk_render::chart::ChartFile;
 use vk_render::output::write_file;
-use vk_render::scene::View;
+use vk_render::scene::{Shorthands, View};
 use vk_render::{Override, Renderer, Scene};
 
 /// Options that override `[image]` and any other value of the scene(s).
@@ -64,18 +64,14 @@ pub struct SetArgs {
 impl ImageArgs {
     /// The shorthands as overrides, then the --set ones.
     pub fn overrides(&self) -> Vec<Override> {
-        let mut overrides = Vec::new();
-        for (key, value) in [("width", self.width), ("height", self.height), ("samples", self.samples)] {
-            if let Some(value) = value {
-                overrides.push(Override::new(format!("image.{key}"), value));
-            }
-        }
-        if let Some(view) = &self.view {
-            overrides.push(Override::new("image.view", view.as_str()));
-        }
-        if let Some(mode) = &self.environment_mode {
-            overrides.push(Override::new("environment.mode", mode.as_str()));
-        }
+        let shorthands = Shorthands {
+            width: self.width,
+            height: self.height,
+            samples: self.samples,
+            view: self.view.as_deref(),
+            environment_mode: self.environment_mode.as_deref(),
+        };
+        let mut overrides = shorthands.overrides();
         overrides.extend(self.set.overrides.iter().cloned());
         overrides
     }

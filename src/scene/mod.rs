@@ -14,7 +14,7 @@ use glam::{Mat4, Vec3};
 use crate::brdf::Brdf;
 use crate::error::{Error, Result};
 
-pub use overrides::{shortened, Override};
+pub use overrides::{shortened, Override, Shorthands};
 
 /// The default `[image] shadow_map_size`: a 1024 x 1024 cube face is 0.09 degrees a texel, so a shadow
 /// edge on the course's plane (3 to 10 units from the light) is placed within 5 to 15 mm.
@@ -390,32 +390,41 @@ impl Scene {
     /// # Errors
     /// As [`Scene::load`].
     pub fn parse(text: &str, path: &Path, overrides: &[Override]) -> Result<Scene> {
-        let scene_error = |message: String| Error::Scene { file: path.to_path_buf(), message };
-        // Deserializing the text itself keeps toml's spans, so syntax errors, unknown keys and wrong types
-        // are reported with their line and the offending source line.
-        let mut raw: file::SceneFile = toml::from_str(text).map_err(|e| scene_error(toml_error(&e, text)))?;
-        if !overrides.is_empty() {
-            let mut table: toml::Table = toml::from_str(text).map_err(|e| scene_error(toml_error(&e, text)))?;
-            raw = overrides::apply(&mut table, overrides).map_err(scene_error)?;
-        }
-        validate::validate(raw, path).map_err(scene_error)
+        let (raw, _) = overridden_file(text, path, overrides)?;
+        validate::validate(raw, path).map_err(|message| Error::Scene { file: path.to_path_buf(), message })
     }
 }
 
-/// The scene text with `overrides` written into it, as a TOML document: what `--set` makes of the file,
-/// for tools that keep a scene as text (the Python package's `Scene.with_set` and `Scene.to_toml`). The
-/// file's comments and layout are not kept.
+/// The scene file's sections with `overrides` applied, and the document they were applied to (`None`
+/// without overrides: the text itself is the document).
+fn overridden_file(text: &str, path: &Path, overrides: &[Override]) -> Result<(file::SceneFile, Option<toml::Table>)> {
+    let scene_error = |message: String| Error::Scene { file: path.to_path_buf(), message };
+    // Deserializing the text itself keeps toml's spans, so syntax errors, unknown keys and wrong types are
+    // reported with their line and the offending source line.
+    let raw: file::SceneFile = toml::from_str(text).map_err(|e| scene_error(toml_error(&e, text)))?;
+    if overrides.is_empty() {
+        return Ok((raw, None));
+    }
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| scene_error(toml_error(&e, text)))?;
+    let raw = overrides::apply(&mut table, overrides).map_err(scene_error)?;
+    Ok((raw, Some(table)))
+}
+
+/// The scene of `text` with `overrides`, as [`Scene::parse`] makes it, and its text with the overrides
+/// written into it, as a TOML document: what `--set` makes of the file, for tools that keep a scene as text
+/// (the Python package's `Scene.with_set` and `Scene.to_toml`). The file's comments and layout are not kept.
 ///
 /// # Errors
-/// As [`Scene::parse`] (the result is validated as a scene).
-pub fn overridden_text(text: &str, path: &Path, overrides: &[Override]) -> Result<String> {
+/// As [`Scene::parse`].
+pub fn overridden(text: &str, path: &Path, overrides: &[Override]) -> Result<(Scene, String)> {
     let scene_error = |message: String| Error::Scene { file: path.to_path_buf(), message };
-    Scene::parse(text, path, overrides)?;
-    let mut table: toml::Table = toml::from_str(text).map_err(|e| scene_error(toml_error(&e, text)))?;
-    if !overrides.is_empty() {
-        overrides::apply(&mut table, overrides).map_err(scene_error)?;
-    }
-    toml::to_string(&table).map_err(|e| scene_error(e.to_string()))
+    let (raw, table) = overridden_file(text, path, overrides)?;
+    let scene = validate::validate(raw, path).map_err(scene_error)?;
+    let table = match table {
+        Some(table) => table,
+        None => toml::from_str(text).map_err(|e| scene_error(toml_error(&e, text)))?,
+    };
+    Ok((scene, toml::to_string(&table).map_err(|e| scene_error(e.to_string()))?))
 }
 
 /// A TOML error of the scene `text` in one line: `line L, column C: KEY = VALUE: what is wrong`, the key

@@ -59,6 +59,27 @@ impl Override {
     }
 }
 
+/// The image options' shorthands (`--width`, `--height`, `--samples`, `--view`, `--environment-mode`), which
+/// the command line and the Python package apply as overrides before any `--set`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Shorthands<'a> {
+    pub width: Option<i64>,
+    pub height: Option<i64>,
+    pub samples: Option<i64>,
+    pub view: Option<&'a str>,
+    pub environment_mode: Option<&'a str>,
+}
+
+impl Shorthands<'_> {
+    /// The overrides they stand for, in that order: `image.width`, ..., `environment.mode`.
+    pub fn overrides(&self) -> Vec<Override> {
+        let numbers = [("image.width", self.width), ("image.height", self.height), ("image.samples", self.samples)];
+        let words = [("image.view", self.view), ("environment.mode", self.environment_mode)];
+        let numbers = numbers.into_iter().filter_map(|(key, value)| value.map(|v| Override::new(key, v)));
+        numbers.chain(words.into_iter().filter_map(|(key, value)| value.map(|v| Override::new(key, v)))).collect()
+    }
+}
+
 impl fmt::Display for Override {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "--set {}={}", self.path, self.value)
