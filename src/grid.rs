@@ -97,16 +97,35 @@ impl Grid {
     /// # Panics
     /// When `index` is not below [`Grid::len`].
     pub fn combination(&self, index: usize) -> Combination {
+        let values = self
+            .positions(index)
+            .into_iter()
+            .zip(&self.params)
+            .map(|(position, param)| (param.key.clone(), param.values[position].clone()))
+            .collect();
+        Combination { index, values }
+    }
+
+    /// Which value of each parameter combination `index` takes, in the grid's order (row-major: the first
+    /// parameter varies slowest).
+    ///
+    /// # Panics
+    /// When `index` is not below [`Grid::len`].
+    pub fn positions(&self, index: usize) -> Vec<usize> {
         assert!(index < self.len, "combination {index} of a grid of {}", self.len);
         let mut rest = index;
-        let mut values = Vec::with_capacity(self.params.len());
-        for param in self.params.iter().rev() {
-            let count = param.values.len();
-            values.push((param.key.clone(), param.values[rest % count].clone()));
-            rest /= count;
-        }
-        values.reverse();
-        Combination { index, values }
+        let mut positions: Vec<usize> = self
+            .params
+            .iter()
+            .rev()
+            .map(|param| {
+                let position = rest % param.values.len();
+                rest /= param.values.len();
+                position
+            })
+            .collect();
+        positions.reverse();
+        positions
     }
 
     /// Every combination in order.

@@ -83,12 +83,7 @@ impl PyGrid {
         }
         entry.set_item("text", texts)?;
         // Which of each parameter's values it takes, so that the caller sets the very Python value given.
-        let positions: Vec<usize> = combination
-            .values
-            .iter()
-            .zip(self.grid.params())
-            .map(|((_, value), param)| param.values.iter().position(|v| v == value).unwrap_or(0))
-            .collect();
+        let positions = self.grid.positions(index);
         entry.set_item("positions", positions)?;
         entry.set_item("label", combination.label(&self.grid))?;
         let tile: PathBuf = combination.tile_path(&self.grid, &sheet);

@@ -110,9 +110,9 @@ def sweep(
         params = {key: values[key][position] for key, position in zip(combinations.keys, combination["positions"])}
         overrides = dict(set or {})
         overrides.update(params)
-        base.with_set(overrides)  # checks it: SceneError before anything renders
+        checked = base.with_set(overrides)  # SceneError here, before anything renders
         tile = os.fspath(combination["tile"]) if out is not None else None
-        jobs.append((params, combination["label"], overrides, tile))
+        jobs.append((params, combination["label"], overrides, checked, tile))
     if out is not None:
         os.makedirs(out, exist_ok=True)
 
@@ -123,8 +123,8 @@ def sweep(
 
     pending = []
     records = [None] * len(jobs)
-    for position, (params, label, overrides, tile) in enumerate(jobs):
-        if resume and tile is not None and _whole(tile, base.with_set(overrides)):
+    for position, (params, label, _, checked, tile) in enumerate(jobs):
+        if resume and tile is not None and _whole(tile, checked):
             records[position] = record(params, label, tile)
         else:
             pending.append(position)
@@ -133,32 +133,24 @@ def sweep(
     if client is None:
         renderer = renderer or (default_renderer() if device is None and not validate else _renderer(options))
         for position in pending:
-            params, label, overrides, tile = jobs[position]
-            records[position] = record(params, label, _render_one(base, overrides, tile, options, renderer))
+            params, label, _, checked, tile = jobs[position]
+            records[position] = record(params, label, _render_one(checked, None, tile, options, renderer))
         return records
 
-    # pure: the same combination has the same key, so a task lost with its worker is run again as itself.
-    # A tile's path as the workers see it: they may run in another folder.
-    futures = [
-        client.submit(
-            _render_one,
-            base,
-            jobs[position][2],
-            None if jobs[position][3] is None else os.path.abspath(jobs[position][3]),
-            options,
-            key=f"vk-render-{name}-{position}-{_token(base, jobs[position][2], options)}",
-            retries=retries,
-        )
-        for position in pending
-    ]
-    for position, result in zip(pending, client.gather(futures)):
-        params, label, _, tile = jobs[position]
-        records[position] = record(params, label, result if tile is None else tile)
-    return records
-
-
-def _token(scene, overrides, options):
+    # Each task is the base scene and its combination's overrides, keyed by both (tokenized once for the
+    # base): the same combination has the same key, so a task lost with its worker runs again as itself. A
+    # tile's path is absolute, as workers may run in another folder.
     from dask.base import tokenize
 
-    return tokenize(scene.to_toml(), os.fspath(scene.path), overrides, options)
+    base_token = tokenize(base.to_toml(), os.fspath(base.path), options)
+    futures = []
+    for position in pending:
+        _, _, overrides, _, tile = jobs[position]
+        tile = None if tile is None else os.path.abspath(tile)
+        key = f"vk-render-{name}-{position}-{tokenize(base_token, overrides)}"
+        futures.append(client.submit(_render_one, base, overrides, tile, options, key=key, retries=retries))
+    for position, result in zip(pending, client.gather(futures)):
+        params, label, _, _, tile = jobs[position]
+        records[position] = record(params, label, result if tile is None else tile)
+    return records
 
