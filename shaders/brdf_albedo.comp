@@ -9,6 +9,7 @@
 //
 // The frame: n = +z, wo in the xz-plane (phi_o = 0), wi = (sin t cos p, sin t sin p, cos t).
 
+#define MEASURED_BINDING 3
 #include "common/brdf.glsl"
 
 layout(local_size_x = 64) in;
@@ -30,6 +31,7 @@ layout(set = 0, binding = 0, std430) readonly buffer Jobs { AlbedoJob jobs[]; };
 layout(set = 0, binding = 1, std430) readonly buffer Cells { AlbedoCell cells[]; };
 // Per cell: the Kronrod estimate, then the Gauss estimate.
 layout(set = 0, binding = 2, std430) writeonly buffer Results { vec4 results[]; };
+// Binding 3: the measured tables (brdf/measured.glsl).
 
 layout(push_constant) uniform Probe { uint cell_count; } probe;
 

@@ -3,6 +3,7 @@
 // The BRDF probe: evaluates brdf_eval, the very function the forward pass shades with, for a list of
 // (material, n, wi, wo) cases, so that tests can compare every GLSL BRDF with its Rust mirror.
 
+#define MEASURED_BINDING 2
 #include "common/brdf.glsl"
 
 layout(local_size_x = 64) in;
@@ -16,6 +17,7 @@ struct ProbeCase {
 
 layout(set = 0, binding = 0, std430) readonly buffer Cases { ProbeCase cases[]; };
 layout(set = 0, binding = 1, std430) writeonly buffer Results { vec4 results[]; };
+// Binding 2: the measured tables (brdf/measured.glsl).
 
 layout(push_constant) uniform Probe { uint case_count; } probe;
 

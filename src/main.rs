@@ -60,6 +60,9 @@ enum Command {
     /// Fit a model to a material: the parameters that best match its lobe in least squares over the
     /// hemisphere for a set of incidence angles, printed as `name = value` with the residual.
     Fit(commands::fit::FitArgs),
+    /// Write a material as a MERL file, as if measured (each entry its BRDF at the entry's centre), to load
+    /// with brdf = "measured" or into another tool that reads MERL files.
+    Tabulate(commands::tabulate::TabulateArgs),
     /// Render two scenes and compare them: side by side with the map of their differences and its colour
     /// bar (PNG), mean / p99 / max differences printed.
     Compare(commands::compare::CompareArgs),
@@ -157,6 +160,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Furnace(args) => commands::furnace::run(args, options),
         Command::Compare(args) => commands::compare::run(args, options),
         Command::Fit(args) => commands::fit::run(args, options),
+        Command::Tabulate(args) => commands::tabulate::run(args),
         Command::Check(args) => return Ok(commands::check::run(args, options)),
         #[cfg(feature = "preview")]
         Command::Preview(args) => commands::preview::run(args, options),

@@ -164,7 +164,7 @@ fn the_white_furnace_flags_what_the_models_do() {
     let row = |material: &str, brdf: Brdf| rows.iter().find(|r| r.material == material && r.brdf == brdf).expect("row");
     // Each material's own row first, then its model's white grid.
     assert_eq!(rows[0].material, "matte");
-    assert!(row("matte", materials[0].brdf).verdict().starts_with("conserves"));
+    assert!(row("matte", materials[0].brdf.clone()).verdict().starts_with("conserves"));
     // Oren-Nayar creates energy at grazing views for small sigma (+1.5% at sigma 0.2), not for sigma 0.
     let on = row(WHITE, Brdf::OrenNayar { kd: Vec3::ONE, sigma: 0.2 });
     assert!(on.verdict().starts_with("creates energy: +1.5") && on.theta_o == 89.9, "{on:?}: {}", on.verdict());

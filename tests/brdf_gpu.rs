@@ -33,7 +33,7 @@ fn cases(models: &[Brdf]) -> Vec<ProbeCase> {
                 for theta_o in THETAS {
                     for delta_phi in DELTA_PHIS {
                         let (wi, wo) = (direction(&frame, theta_i, 30.0), direction(&frame, theta_o, 30.0 + delta_phi));
-                        cases.push(ProbeCase { brdf: *brdf, n: frame.z_axis, wi, wo });
+                        cases.push(ProbeCase { brdf: brdf.clone(), n: frame.z_axis, wi, wo });
                     }
                 }
             }

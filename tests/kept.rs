@@ -21,7 +21,7 @@ fn session() -> Vec<(String, Scene)> {
     step("orbit behind", &|s| s.camera.position = glam::Vec3::new(0.0, 1.0, 6.5));
     step("back to the start", &|s| s.camera.position = glam::Vec3::ZERO);
     step("move a light", &|s| s.lights[1].position = glam::Vec3::new(-2.0, 3.0, 2.0));
-    step("another material", &|s| s.objects[0].brdf = s.objects[1].brdf);
+    step("another material", &|s| s.objects[0].brdf = s.objects[1].brdf.clone());
     step("resize", &|s| (s.image.width, s.image.height) = (200, 200));
     step("one sample", &|s| s.image.samples = 1);
     step("pcf", &|s| s.image.shadow_filter = vk_render::scene::ShadowFilter::Pcf);

@@ -89,7 +89,7 @@ fn worst_error(image: &HdrImage, scene: &Scene, expected: impl Fn(&SpherePixel) 
 }
 
 fn gold(scene: &Scene) -> Brdf {
-    scene.objects[0].brdf
+    scene.objects[0].brdf.clone()
 }
 
 #[test]

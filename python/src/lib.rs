@@ -81,13 +81,13 @@ fn material(py: Python<'_>, given: &Bound<'_, PyAny>) -> PyResult<Brdf> {
         document.insert("material".into(), toml::Value::Table(materials));
         let text = toml::to_string(&document).map_err(|e| scene_error(py, format!("material: {e}")))?;
         let scene = Scene::parse(&text, std::path::Path::new("<material>"), &[]).map_err(|e| to_py(py, e))?;
-        return scene.materials.get("given").copied().ok_or_else(|| scene_error(py, "material: empty".into()));
+        return scene.materials.get("given").cloned().ok_or_else(|| scene_error(py, "material: empty".into()));
     }
     if let Ok(pair) = given.downcast::<PyTuple>() {
         if pair.len() == 2 {
             let scene = resolve(py, &pair.get_item(0)?, &[])?;
             let name: String = pair.get_item(1)?.extract()?;
-            return scene.materials.get(&name).copied().ok_or_else(|| {
+            return scene.materials.get(&name).cloned().ok_or_else(|| {
                 let known: Vec<&str> = scene.materials.keys().map(String::as_str).collect();
                 scene_error(
                     py,
@@ -137,7 +137,7 @@ fn probe_cases(
     if wi.len() != wo.len() {
         return Err(PyValueError::new_err(format!("wi has {} rows and wo {}: give one wo per wi", wi.len(), wo.len())));
     }
-    Ok(wi.into_iter().zip(wo).map(|(wi, wo)| ProbeCase { brdf, n: Vec3::Z, wi, wo }).collect())
+    Ok(wi.into_iter().zip(wo).map(|(wi, wo)| ProbeCase { brdf: brdf.clone(), n: Vec3::Z, wi, wo }).collect())
 }
 
 /// Values as an (N, 3) float32 array.

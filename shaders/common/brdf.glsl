@@ -15,12 +15,14 @@
 #include "brdf/phong.glsl"
 #include "brdf/blinn_phong.glsl"
 #include "brdf/cook_torrance.glsl"
+#include "brdf/measured.glsl"
 
 const uint BRDF_LAMBERT = 0u;
 const uint BRDF_OREN_NAYAR = 1u;
 const uint BRDF_PHONG = 2u;
 const uint BRDF_BLINN_PHONG = 3u;
 const uint BRDF_COOK_TORRANCE = 4u;
+const uint BRDF_MEASURED = 5u;
 const uint BRDF_FROM_MATERIAL = 0xFFFFFFFFu;
 
 layout(constant_id = 0) const uint BRDF_SPECIALIZED = BRDF_FROM_MATERIAL;
@@ -50,13 +52,16 @@ vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {
         case BRDF_COOK_TORRANCE:
             return cook_torrance(n, wi, wo, m.kd.rgb, m.f0.rgb, m.roughness, m.metalness,
                                  DIFFUSE_SPECIALIZED == BRDF_FROM_MATERIAL ? m.diffuse : DIFFUSE_SPECIALIZED);
+        case BRDF_MEASURED:
+            return measured(m.measured, n, wi, wo);
         default:
             return vec3(0.0);
     }
 }
 
 // The diffuse and the specular lobe of brdf_eval apart (they add up to it): Lambert and Oren-Nayar are all
-// diffuse; Phong and Blinn-Phong are Lambert plus their lobe; Cook-Torrance weighs its lobes by metalness.
+// diffuse; Phong and Blinn-Phong are Lambert plus their lobe; Cook-Torrance weighs its lobes by metalness; a
+// measurement is not split into lobes and counts whole as diffuse.
 // Mirror Brdf::eval_diffuse and Brdf::eval_specular in src/brdf/mod.rs; the diffuse and specular views show
 // what each reflects.
 vec3 brdf_eval_diffuse(Material m, vec3 n, vec3 wi, vec3 wo) {
@@ -69,6 +74,8 @@ vec3 brdf_eval_diffuse(Material m, vec3 n, vec3 wi, vec3 wo) {
         case BRDF_COOK_TORRANCE:
             return (1.0 - m.metalness) * (m.diffuse == DIFFUSE_LAMBERT ? lambert(m.kd.rgb)
                                                                         : oren_nayar(n, wi, wo, m.kd.rgb, m.roughness));
+        case BRDF_MEASURED:
+            return measured(m.measured, n, wi, wo);
         default:
             return lambert(m.kd.rgb);
     }

@@ -14,7 +14,7 @@ struct Material {
     float roughness;
     float metalness;
     uint diffuse;    // DIFFUSE_* under a Cook-Torrance lobe
-    uint pad0;
+    uint measured;   // under BRDF_MEASURED: the material's table in MeasuredTables (brdf/measured.glsl)
     uint pad1;
 };
 

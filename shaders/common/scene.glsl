@@ -43,6 +43,8 @@ layout(set = 0, binding = 2, std430) readonly buffer Objects { ObjectData object
 layout(set = 0, binding = 3, std430) readonly buffer ShadowViews { mat4 shadow_views[]; };
 // Distance from each light to the nearest surface, one cube per shadow-casting light.
 layout(set = 0, binding = 4) uniform samplerCubeArray shadow_maps;
+// Bindings 5 to 8 are the environment's (common/environment.glsl); 9 holds the measured tables.
+#define MEASURED_BINDING 9
 
 // light_index and face: the light and the face of its shadow cube that the shadow pass draws (unused by
 // the forward pass).

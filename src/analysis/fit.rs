@@ -153,7 +153,7 @@ pub fn fit(
 ) -> Result<Option<Fit>> {
     let Some(family) = Family::new(model, target) else { return Ok(None) };
     let samples = samples(theta_i);
-    let wanted = lobe_values(renderer, &[*target], &samples)?.remove(0);
+    let wanted = lobe_values(renderer, std::slice::from_ref(target), &samples)?.remove(0);
     let weights: Vec<f64> = samples.iter().map(|s| s.weight).collect();
     let mut tried = 0;
     let mut solve = |shape: f64| -> Result<(f64, Brdf)> {
@@ -163,7 +163,7 @@ pub fn fit(
         let basis = lobe_values(renderer, &family.basis(shape), &samples)?;
         let coefficients = least_squares(&basis, &wanted, &weights);
         let brdf = family.assemble(shape, &coefficients);
-        let fitted = lobe_values(renderer, &[brdf], &samples)?.remove(0);
+        let fitted = lobe_values(renderer, std::slice::from_ref(&brdf), &samples)?.remove(0);
         Ok((rms_difference(&fitted, &wanted, &weights), brdf))
     };
     let (residual, brdf) = match family.shape {
@@ -222,7 +222,7 @@ fn scale(log: bool) -> (ScaleMap, ScaleMap) {
 fn lobe_values(renderer: &mut Renderer, brdfs: &[Brdf], samples: &[Sample]) -> Result<Vec<Vec<[f64; 3]>>> {
     let cases: Vec<ProbeCase> = brdfs
         .iter()
-        .flat_map(|&brdf| samples.iter().map(move |s| ProbeCase { brdf, n: Vec3::Z, wi: s.wi, wo: s.wo }))
+        .flat_map(|brdf| samples.iter().map(move |s| ProbeCase { brdf: brdf.clone(), n: Vec3::Z, wi: s.wi, wo: s.wo }))
         .collect();
     let values = renderer.probe_brdfs(&cases)?;
     Ok(values

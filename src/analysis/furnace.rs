@@ -65,6 +65,8 @@ pub fn white_grid(brdf: &Brdf) -> Vec<Brdf> {
                 ROUGHNESS.map(|roughness| Brdf::CookTorrance { kd: white, f0: white, roughness, metalness, diffuse })
             })
             .collect(),
+        // A measurement has no parameter to vary.
+        Brdf::Measured(_) => Vec::new(),
     }
 }
 
@@ -93,7 +95,7 @@ pub fn furnace(
     let mut wanted: Vec<(String, Brdf)> = Vec::new();
     let mut grids_taken = Vec::new();
     for material in materials {
-        wanted.push((material.name.clone(), material.brdf));
+        wanted.push((material.name.clone(), material.brdf.clone()));
         let kind = grid_kind(&material.brdf);
         if !grids_taken.contains(&kind) {
             grids_taken.push(kind);

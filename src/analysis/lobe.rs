@@ -56,7 +56,7 @@ pub fn lobes(renderer: &mut Renderer, brdfs: &[Brdf], cut: &LobeCut) -> Result<V
     let (wi, wo) = cut_directions(cut, &angles);
     let n = Vec3::Z;
     let cases: Vec<ProbeCase> =
-        brdfs.iter().flat_map(|&brdf| wo.iter().map(move |&wo| ProbeCase { brdf, n, wi, wo })).collect();
+        brdfs.iter().flat_map(|brdf| wo.iter().map(move |&wo| ProbeCase { brdf: brdf.clone(), n, wi, wo })).collect();
     let values = renderer.probe_brdfs(&cases)?;
     Ok(values
         .chunks_exact(angles.len())

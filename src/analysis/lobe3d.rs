@@ -74,7 +74,7 @@ pub fn lobe_scene(
     if theta_i > 0.0 {
         objects.push(object(Arc::new(arrow(to_world(mirror), arrow_length, radius)), "mirror", MIRROR_COLOUR));
     }
-    let materials: BTreeMap<String, Brdf> = objects.iter().map(|o| (o.material.clone(), o.brdf)).collect();
+    let materials: BTreeMap<String, Brdf> = objects.iter().map(|o| (o.material.clone(), o.brdf.clone())).collect();
     let (elevation, azimuth) = (from.elevation.to_radians(), from.azimuth.to_radians());
     let target = Vec3::new(0.0, 0.4 * reach, 0.0);
     let eye = target
@@ -125,7 +125,8 @@ pub fn lobe_mesh(renderer: &mut Renderer, brdf: &Brdf, wi: Vec3) -> Result<Trian
         Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos())
     };
     let directions: Vec<Vec3> = (0..=THETA_STEPS).flat_map(|t| (0..PHI_STEPS).map(move |p| direction(t, p))).collect();
-    let cases: Vec<ProbeCase> = directions.iter().map(|&wo| ProbeCase { brdf: *brdf, n: Vec3::Z, wi, wo }).collect();
+    let cases: Vec<ProbeCase> =
+        directions.iter().map(|&wo| ProbeCase { brdf: brdf.clone(), n: Vec3::Z, wi, wo }).collect();
     let values = renderer.probe_brdfs(&cases)?;
     let positions: Vec<Vec3> = directions
         .iter()

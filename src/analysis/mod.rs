@@ -34,12 +34,16 @@ pub fn select_materials(scene: &Scene, names: Option<&[String]>) -> Result<Vec<N
         return Err(error("the scene defines no [material.NAME] to study".into()));
     }
     let Some(names) = names else {
-        return Ok(scene.materials.iter().map(|(name, &brdf)| NamedBrdf { name: name.clone(), brdf }).collect());
+        return Ok(scene
+            .materials
+            .iter()
+            .map(|(name, brdf)| NamedBrdf { name: name.clone(), brdf: brdf.clone() })
+            .collect());
     };
     names
         .iter()
         .map(|name| match scene.materials.get(name) {
-            Some(&brdf) => Ok(NamedBrdf { name: name.clone(), brdf }),
+            Some(brdf) => Ok(NamedBrdf { name: name.clone(), brdf: brdf.clone() }),
             None => Err(error(format!("--material {name}: no such material (the scene defines {})", defined()))),
         })
         .collect()
@@ -104,6 +108,10 @@ pub fn describe(brdf: &Brdf) -> String {
             colour(kd),
             colour(f0),
             if diffuse == DiffuseModel::Lambert { ", lambert diffuse" } else { "" }
+        ),
+        Brdf::Measured(ref table) => format!(
+            "measured {}",
+            table.path().file_name().map_or_else(|| table.path().display().to_string(), |f| f.to_string_lossy().into())
         ),
     }
 }

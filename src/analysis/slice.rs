@@ -49,7 +49,7 @@ pub fn slices(renderer: &mut Renderer, brdfs: &[Brdf], phi_d: f64, cells: usize)
         .collect();
     let cases: Vec<ProbeCase> = brdfs
         .iter()
-        .flat_map(|&brdf| directions.iter().map(move |&(wi, wo)| ProbeCase { brdf, n: Vec3::Z, wi, wo }))
+        .flat_map(|brdf| directions.iter().map(move |&(wi, wo)| ProbeCase { brdf: brdf.clone(), n: Vec3::Z, wi, wo }))
         .collect();
     let values = renderer.probe_brdfs(&cases)?;
     Ok(values

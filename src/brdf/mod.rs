@@ -7,6 +7,7 @@
 mod blinn_phong;
 mod cook_torrance;
 mod lambert;
+pub mod measured;
 mod oren_nayar;
 mod phong;
 #[cfg(test)]
@@ -19,6 +20,7 @@ pub use cook_torrance::{
     cook_torrance, cook_torrance_specular, d_ggx, f_schlick, g_smith_schlick, smith_schlick_k, v_smith_schlick,
 };
 pub use lambert::lambert;
+pub use measured::{Measured, MeasuredTable};
 pub use oren_nayar::{cos_phi_difference, oren_nayar, oren_nayar_a, oren_nayar_b};
 pub use phong::{cosine_lobe, mirror, phong, phong_specular, pow_lobe, MIN_COS_THETA_I};
 
@@ -34,7 +36,8 @@ pub enum DiffuseModel {
 /// A material's reflectance model and its parameters, as validated from the scene file.
 ///
 /// A closed set, dispatched by one `match` on the CPU and by one `switch` in `shaders/common/brdf.glsl`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Not `Copy`: a measured material holds its table (shared, so a clone is cheap).
+#[derive(Clone, Debug, PartialEq)]
 pub enum Brdf {
     /// Perfectly diffuse: kd / pi.
     Lambert { kd: Vec3 },
@@ -46,6 +49,8 @@ pub enum Brdf {
     BlinnPhong { kd: Vec3, ks: Vec3, shininess: f32 },
     /// Microfacet model (Cook and Torrance 1982) with GGX D, Smith-Schlick G and Schlick F.
     CookTorrance { kd: Vec3, f0: Vec3, roughness: f32, metalness: f32, diffuse: DiffuseModel },
+    /// A measured table (a MERL file, Matusik et al. 2003), interpolated: see [`measured`].
+    Measured(Measured),
 }
 
 impl Brdf {
@@ -57,6 +62,7 @@ impl Brdf {
             Brdf::Phong { .. } => "phong",
             Brdf::BlinnPhong { .. } => "blinn-phong",
             Brdf::CookTorrance { .. } => "cook-torrance",
+            Brdf::Measured(_) => "measured",
         }
     }
 
@@ -69,26 +75,28 @@ impl Brdf {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
             return Vec3::ZERO;
         }
-        match *self {
-            Brdf::Lambert { kd } => lambert(kd),
-            Brdf::OrenNayar { kd, sigma } => oren_nayar(n, wi, wo, kd, sigma),
-            Brdf::Phong { kd, ks, shininess } => phong(n, wi, wo, kd, ks, shininess),
-            Brdf::BlinnPhong { kd, ks, shininess } => blinn_phong(n, wi, wo, kd, ks, shininess),
+        match self {
+            Brdf::Lambert { kd } => lambert(*kd),
+            Brdf::OrenNayar { kd, sigma } => oren_nayar(n, wi, wo, *kd, *sigma),
+            Brdf::Phong { kd, ks, shininess } => phong(n, wi, wo, *kd, *ks, *shininess),
+            Brdf::BlinnPhong { kd, ks, shininess } => blinn_phong(n, wi, wo, *kd, *ks, *shininess),
             Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse } => {
-                cook_torrance(n, wi, wo, kd, f0, roughness, metalness, diffuse)
+                cook_torrance(n, wi, wo, *kd, *f0, *roughness, *metalness, *diffuse)
             }
+            Brdf::Measured(table) => table.eval(n, wi, wo),
         }
     }
 
     /// The diffuse lobe of [`Brdf::eval`] (with [`Brdf::eval_specular`] they add up to it): Lambert and
     /// Oren-Nayar are all diffuse, Phong and Blinn-Phong are Lambert plus their lobe, Cook-Torrance weighs
-    /// its lobes by metalness. Mirrors `brdf_eval_diffuse` in `shaders/common/brdf.glsl`.
+    /// its lobes by metalness. A measurement is not split into lobes: it counts whole as diffuse. Mirrors `brdf_eval_diffuse` in `shaders/common/brdf.glsl`.
     pub fn eval_diffuse(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
             return Vec3::ZERO;
         }
         match *self {
             Brdf::OrenNayar { kd, sigma } => oren_nayar(n, wi, wo, kd, sigma),
+            Brdf::Measured(ref table) => table.eval(n, wi, wo),
             Brdf::CookTorrance { kd, roughness, metalness, diffuse, .. } => {
                 (1.0 - metalness)
                     * match diffuse {
@@ -101,10 +109,10 @@ impl Brdf {
     }
 
     /// The same material with its diffuse lobe taken out (kd = 0), so that [`Brdf::eval`] is its specular
-    /// lobe alone; `None` for the models that are all diffuse.
+    /// lobe alone; `None` for the models that are all diffuse (a measurement counts as one).
     pub fn specular_only(&self) -> Option<Brdf> {
         match *self {
-            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } => None,
+            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } | Brdf::Measured(_) => None,
             Brdf::Phong { ks, shininess, .. } => Some(Brdf::Phong { kd: Vec3::ZERO, ks, shininess }),
             Brdf::BlinnPhong { ks, shininess, .. } => Some(Brdf::BlinnPhong { kd: Vec3::ZERO, ks, shininess }),
             Brdf::CookTorrance { f0, roughness, metalness, diffuse, .. } => {
@@ -124,7 +132,7 @@ impl Brdf {
             Brdf::CookTorrance { f0, roughness, metalness, .. } => {
                 metalness * cook_torrance_specular(n, wi, wo, f0, roughness)
             }
-            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } => Vec3::ZERO,
+            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } | Brdf::Measured(_) => Vec3::ZERO,
         }
     }
 }

@@ -77,8 +77,8 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
         fitted.target_rms,
         100.0 * fitted.residual / fitted.target_rms.max(f64::MIN_POSITIVE)
     );
-    if let (Brdf::CookTorrance { roughness, .. }, "blinn-phong" | "phong") = (target.brdf, args.to.as_str()) {
-        let alpha = f64::from(roughness * roughness);
+    if let (Brdf::CookTorrance { roughness, .. }, "blinn-phong" | "phong") = (&target.brdf, args.to.as_str()) {
+        let alpha = f64::from(*roughness * *roughness);
         println!(
             "Walter et al. 2007: shininess = 2 / alpha^2 - 2 = {:.1} for alpha = roughness^2 = {alpha:.4} (that mapping is \
              Beckmann's, and Blinn-Phong's; this lobe is GGX)",
@@ -91,7 +91,7 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
         let mut incident = Vec::new();
         for (k, &theta_i) in args.theta_i.iter().enumerate() {
             let cut = LobeCut { theta_i, phi: 0.0, cosine: true };
-            let values = lobes(&mut renderer, &[target.brdf, fitted.brdf], &cut)?;
+            let values = lobes(&mut renderer, &[target.brdf.clone(), fitted.brdf.clone()], &cut)?;
             let colour = PALETTE[k % PALETTE.len()];
             incident.push((theta_i, colour));
             for (values, (label, dashed)) in
@@ -131,5 +131,6 @@ fn parameters(brdf: &Brdf) -> Vec<(&'static str, String)> {
             ("roughness", roughness.to_string()),
             ("metalness", metalness.to_string()),
         ],
+        Brdf::Measured(ref table) => vec![("file", format!("{:?}", table.path().display().to_string()))],
     }
 }

@@ -14,6 +14,7 @@ pub mod reference;
 pub mod render;
 mod sheets;
 pub mod sweep;
+pub mod tabulate;
 
 use std::path::{Path, PathBuf};
 

@@ -154,7 +154,7 @@ fn lobe(args: LobeArgs, options: RendererOptions) -> anyhow::Result<()> {
         anyhow::bail!("--phi {}: not a number of degrees", args.phi);
     }
     let mut renderer = Renderer::new(options)?;
-    let brdfs: Vec<_> = materials.iter().map(|m| m.brdf).collect();
+    let brdfs: Vec<_> = materials.iter().map(|m| m.brdf.clone()).collect();
     let angles = lobe_angles();
     let cut = |theta_i| LobeCut { theta_i, phi: args.phi, cosine: !args.no_cosine };
     let quantity = if args.no_cosine { "f_r" } else { "f_r cos θo" };
@@ -262,7 +262,7 @@ fn slice(args: SliceArgs, options: RendererOptions) -> anyhow::Result<()> {
     }
     // A cell per pixel of a PNG panel; a cell per degree in a CSV, and in an SVG (a rectangle each).
     let mut renderer = Renderer::new(options)?;
-    let brdfs: Vec<_> = materials.iter().map(|m| m.brdf).collect();
+    let brdfs: Vec<_> = materials.iter().map(|m| m.brdf.clone()).collect();
     let csv = slice_table(&materials, &slices(&mut renderer, &brdfs, args.phi_d, CSV_CELLS)?);
     if file == StudyFile::Csv {
         return args.study.write(&csv, |_| Ok(()));

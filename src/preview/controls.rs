@@ -178,7 +178,7 @@ impl Controls {
             }
             Action::MainParameter(step) => {
                 if let Some(object) = scene.objects.get_mut(self.selected) {
-                    object.brdf = change_main_parameter(object.brdf, step);
+                    object.brdf = change_main_parameter(object.brdf.clone(), step);
                 }
             }
             Action::Metalness(step) => {
@@ -229,6 +229,7 @@ pub fn describe(brdf: &Brdf) -> String {
         Brdf::CookTorrance { roughness, metalness, .. } => {
             format!("cook-torrance roughness {roughness:.2} metalness {metalness:.1}")
         }
+        Brdf::Measured(ref table) => crate::analysis::describe(&Brdf::Measured(table.clone())),
     }
 }
 
@@ -240,6 +241,12 @@ fn diffuse_colour(brdf: &Brdf) -> Vec3 {
         | Brdf::Phong { kd, .. }
         | Brdf::BlinnPhong { kd, .. }
         | Brdf::CookTorrance { kd, .. } => kd,
+        // pi f_r away from any highlight (wi and wo 60 degrees from n, a quarter turn apart): about the
+        // reflectance of the measurement's diffuse part.
+        Brdf::Measured(ref table) => {
+            let (wi, wo) = (Vec3::new(0.866, 0.0, 0.5), Vec3::new(0.0, 0.866, 0.5));
+            (std::f32::consts::PI * table.eval(Vec3::Z, wi, wo)).clamp(Vec3::ZERO, Vec3::ONE)
+        }
     }
 }
 
@@ -251,7 +258,7 @@ pub fn switch_brdf(brdf: &Brdf, index: usize) -> Brdf {
     let ks = Vec3::splat(0.3);
     let wanted = ["lambert", "oren-nayar", "phong", "blinn-phong", "cook-torrance"].get(index).copied();
     if wanted == Some(brdf.name()) {
-        return *brdf;
+        return brdf.clone();
     }
     match index {
         1 => Brdf::OrenNayar { kd, sigma: 0.3 },
@@ -278,7 +285,8 @@ pub fn change_main_parameter(brdf: Brdf, step: i32) -> Brdf {
             metalness,
             diffuse,
         },
-        lambert @ Brdf::Lambert { .. } => lambert,
+        // No parameter to change.
+        unchanged @ (Brdf::Lambert { .. } | Brdf::Measured(_)) => unchanged,
     }
 }
 

@@ -8,6 +8,7 @@ use std::f64::consts::PI;
 
 use glam::{DVec3, Vec2, Vec3};
 
+use super::Reflectance;
 use crate::brdf::{mirror, Brdf};
 use crate::environment::sampling::luminance;
 use crate::environment::{direction_of, uv_of, EnvironmentMap, PlacedEnvironment};
@@ -44,8 +45,8 @@ impl<'a> EnvironmentLight<'a> {
 
     /// The integral of L(wi) f(wi, wo) cos(theta_i) over the hemisphere of `n`; `seed` picks the pixel's
     /// random numbers.
-    pub fn reflected(&self, brdf: &Brdf, n: Vec3, wo: Vec3, seed: u64) -> Estimate {
-        let lobe = Lobe::of(brdf, n, wo);
+    pub fn reflected(&self, reflectance: &Reflectance, n: Vec3, wo: Vec3, seed: u64) -> Estimate {
+        let lobe = reflectance.model().and_then(|brdf| Lobe::of(brdf, n, wo));
         let strategies = 1 + usize::from(lobe.is_some()) + usize::from(self.table.is_some());
         let per_strategy = (self.samples_per_batch as usize / strategies).max(1);
         let side = (per_strategy as f64).sqrt().ceil() as usize;
@@ -81,7 +82,7 @@ impl<'a> EnvironmentLight<'a> {
                     if density <= 0.0 {
                         continue;
                     }
-                    let f = brdf.eval(n, wi, wo) * self.placed.radiance(wi) * cos;
+                    let f = reflectance.eval(n, wi, wo) * self.placed.radiance(wi) * cos;
                     sum += f.as_dvec3() / (count * density);
                 }
             }
@@ -291,7 +292,7 @@ mod tests {
         let map = EnvironmentMap { width: 8, height: 4, texels: vec![Vec3::ONE; 32] };
         let setting = white();
         let light = EnvironmentLight::new(PlacedEnvironment { map: &map, environment: &setting }, 1024);
-        let brdf = Brdf::Lambert { kd: Vec3::splat(0.6) };
+        let brdf = Reflectance::Model(Brdf::Lambert { kd: Vec3::splat(0.6) });
         let estimate = light.reflected(&brdf, Vec3::Y, Vec3::new(0.6, 0.8, 0.0), 7);
         // Cosine sampling alone: every sample is kd exactly.
         assert!((estimate.radiance - Vec3::splat(0.6)).abs().max_element() < 1e-5, "{}", estimate.radiance);

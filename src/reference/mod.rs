@@ -1,15 +1,19 @@
 //! An independent CPU reference: one ray per pixel centre through the same camera, exact spheres and
 //! planes, meshes through parry3d's ray queries, hard shadows by shadow rays, shading with the Rust BRDF
-//! mirror, an environment's light by Monte Carlo (`environment.rs`). It shares nothing with the GPU path
-//! but the scene, the BRDF mirror, the environment's map and the output transform, so the rasterized
-//! images can be checked against it.
+//! mirror (a measured material by its own reading of the file, `merl.rs`), an environment's light by Monte
+//! Carlo (`environment.rs`). It shares nothing with the GPU path but the scene, the BRDF mirror, the
+//! environment's map and the output transform, so the rasterized images can be checked against it.
 
 mod environment;
+mod merl;
+
+use std::sync::Arc;
 
 use glam::{Mat3, Vec3};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::TriMesh;
 
+use crate::brdf::Brdf;
 use crate::environment::{EnvironmentMap, PlacedEnvironment};
 use crate::error::{Error, Result};
 use crate::mesh::place_objects;
@@ -17,6 +21,7 @@ use crate::output::HdrImage;
 use crate::scene::{Scene, Shape};
 use environment::EnvironmentLight;
 pub use environment::DEFAULT_SAMPLES;
+use merl::MerlFile;
 
 /// The reference image and, per pixel, the index of the object seen (`None` for the background).
 pub struct ReferenceImage {
@@ -66,6 +71,56 @@ fn hue(h: f32) -> [u8; 3] {
 /// renderers bend it back over the horizon the same way.
 const MIN_NOV: f32 = 1e-4;
 
+/// An object's reflectance as the reference evaluates it: an analytic model by the Rust mirror, a measured
+/// one by the reference's own reading of its file.
+enum Reflectance {
+    Model(Brdf),
+    Measured(Arc<MerlFile>),
+}
+
+impl Reflectance {
+    /// Each object's, every file read once.
+    fn of_objects(scene: &Scene) -> Result<Vec<Reflectance>> {
+        let mut read: Vec<(std::path::PathBuf, Arc<MerlFile>)> = Vec::new();
+        scene
+            .objects
+            .iter()
+            .map(|object| match &object.brdf {
+                Brdf::Measured(table) => {
+                    let path = table.path();
+                    if let Some((_, file)) = read.iter().find(|(p, _)| p == path) {
+                        return Ok(Reflectance::Measured(file.clone()));
+                    }
+                    let file = Arc::new(
+                        MerlFile::read(path).map_err(|message| Error::Scene { file: scene.source.clone(), message })?,
+                    );
+                    read.push((path.to_path_buf(), file.clone()));
+                    Ok(Reflectance::Measured(file))
+                }
+                brdf => Ok(Reflectance::Model(brdf.clone())),
+            })
+            .collect()
+    }
+
+    fn eval(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+        if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        match self {
+            Reflectance::Model(brdf) => brdf.eval(n, wi, wo),
+            Reflectance::Measured(file) => file.eval(n, wi, wo),
+        }
+    }
+
+    /// The analytic model, whose specular lobe the environment's light is importance-sampled by.
+    fn model(&self) -> Option<&Brdf> {
+        match self {
+            Reflectance::Model(brdf) => Some(brdf),
+            Reflectance::Measured(_) => None,
+        }
+    }
+}
+
 /// An object as the ray tracer sees it.
 enum Geometry {
     Sphere {
@@ -105,6 +160,7 @@ pub fn render(scene: &Scene) -> Result<ReferenceImage> {
 /// As [`render`].
 pub fn render_with_samples(scene: &Scene, samples: u32) -> Result<ReferenceImage> {
     let geometry = build_geometry(scene)?;
+    let reflectances = Reflectance::of_objects(scene)?;
     let map = scene.environment.as_ref().map(|e| EnvironmentMap::of(scene, e)).transpose()?;
     let light = scene
         .environment
@@ -130,7 +186,8 @@ pub fn render_with_samples(scene: &Scene, samples: u32) -> Result<ReferenceImage
                 match nearest_hit(&geometry, camera.position, direction, f32::INFINITY) {
                     Some(hit) => {
                         let p = camera.position + hit.t * direction;
-                        let (radiance, error) = shade(scene, &geometry, light.as_ref(), &hit, p, -direction, seed);
+                        let (radiance, error) =
+                            shade(scene, (&geometry, &reflectances), light.as_ref(), &hit, p, -direction, seed);
                         (radiance, Some(hit.object), error)
                     }
                     None => {
@@ -277,14 +334,14 @@ fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
 /// occluded), with the standard error of its estimate.
 fn shade(
     scene: &Scene,
-    geometry: &[Geometry],
+    (geometry, reflectances): (&[Geometry], &[Reflectance]),
     environment: Option<&EnvironmentLight>,
     hit: &Hit,
     p: Vec3,
     wo: Vec3,
     seed: u64,
 ) -> (Vec3, Vec3) {
-    let object = &scene.objects[hit.object];
+    let reflectance = &reflectances[hit.object];
     let mut n = hit.normal;
     match geometry[hit.object] {
         // A plane is seen from either side: its normal faces the viewer.
@@ -294,7 +351,7 @@ fn shade(
     }
     // Shadow rays leave from just above the surface so that it does not shadow itself.
     let origin = p + n * (1e-4 * p.abs().max_element().max(1.0));
-    let from_environment = environment.map(|light| light.reflected(&object.brdf, n, wo, seed));
+    let from_environment = environment.map(|light| light.reflected(reflectance, n, wo, seed));
     let from_lights: Vec3 = scene
         .lights
         .iter()
@@ -310,7 +367,7 @@ fn shade(
             if light.shadows && nearest_hit(geometry, origin, wi, (light.position - origin).length()).is_some() {
                 return Vec3::ZERO;
             }
-            object.brdf.eval(n, wi, wo) * light.color * light.power / d2 * cos
+            reflectance.eval(n, wi, wo) * light.color * light.power / d2 * cos
         })
         .sum();
     match from_environment {

@@ -61,7 +61,7 @@ pub fn directional_albedos(
 ) -> Result<Vec<Albedo>> {
     let jobs: Vec<AlbedoJob> = theta_o
         .iter()
-        .map(|&theta| AlbedoJob { brdf: *brdf, wo: Vec3::new(theta.sin() as f32, 0.0, theta.cos() as f32) })
+        .map(|&theta| AlbedoJob { brdf: brdf.clone(), wo: Vec3::new(theta.sin() as f32, 0.0, theta.cos() as f32) })
         .collect();
     let mut integrated: Vec<Vec<Integrated>> = vec![Vec::new(); jobs.len()];
     let mut pending: Vec<Cell> = theta_o.iter().enumerate().flat_map(|(job, &theta)| first_cells(job, theta)).collect();

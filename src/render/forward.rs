@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_types::GpuMaterial;
+use super::gpu_types::{brdf_id, diffuse_id};
 use super::passes::{begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
@@ -81,7 +81,6 @@ pub enum PipelineKey {
 impl PipelineKey {
     /// The pipeline that draws `placed` with `object`'s BRDF into the targets of `scene`'s image.
     pub fn for_object(scene: &Scene, object: &Object, placed: &PlacedMesh) -> Self {
-        let material = GpuMaterial::from(&object.brdf);
         let shadow_filter = match scene.image.shadow_filter {
             ShadowFilter::Hard => 0,
             ShadowFilter::Pcf => 1,
@@ -90,10 +89,10 @@ impl PipelineKey {
             samples: vk::SampleCountFlags::from_raw(scene.image.samples),
             exact_sphere: placed.exact_sphere,
             constants: [
-                material.brdf,
+                brdf_id(&object.brdf),
                 shadow_filter,
                 scene.lights.len() as u32,
-                material.diffuse,
+                diffuse_id(&object.brdf),
                 scene.image.view.id(),
                 environment_constant(scene),
             ],

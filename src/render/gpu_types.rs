@@ -3,6 +3,7 @@
 use glam::camera::rh::proj::vulkan;
 use glam::{Mat4, Vec3, Vec4};
 
+use super::measured::MeasuredTables;
 use crate::brdf::{Brdf, DiffuseModel};
 use crate::scene::{Camera, ImageSettings, Object, PointLight, Shape, View};
 
@@ -61,7 +62,9 @@ pub struct GpuMaterial {
     pub roughness: f32,
     pub metalness: f32,
     pub diffuse: u32,
-    pub pad: [u32; 2],
+    /// Under `BRDF_MEASURED`: the material's table in the measured tables' buffer.
+    pub measured: u32,
+    pub pad: u32,
 }
 
 /// `ObjectData` (std430).
@@ -80,6 +83,7 @@ pub const BRDF_OREN_NAYAR: u32 = 1;
 pub const BRDF_PHONG: u32 = 2;
 pub const BRDF_BLINN_PHONG: u32 = 3;
 pub const BRDF_COOK_TORRANCE: u32 = 4;
+pub const BRDF_MEASURED: u32 = 5;
 /// The diffuse ids under a Cook-Torrance lobe.
 pub const DIFFUSE_OREN_NAYAR: u32 = 0;
 pub const DIFFUSE_LAMBERT: u32 = 1;
@@ -160,18 +164,29 @@ impl GpuPointLight {
 }
 
 /// The id of `brdf` in `shaders/common/brdf.glsl`.
-fn brdf_id(brdf: &Brdf) -> u32 {
+pub fn brdf_id(brdf: &Brdf) -> u32 {
     match brdf {
         Brdf::Lambert { .. } => BRDF_LAMBERT,
         Brdf::OrenNayar { .. } => BRDF_OREN_NAYAR,
         Brdf::Phong { .. } => BRDF_PHONG,
         Brdf::BlinnPhong { .. } => BRDF_BLINN_PHONG,
         Brdf::CookTorrance { .. } => BRDF_COOK_TORRANCE,
+        Brdf::Measured(_) => BRDF_MEASURED,
     }
 }
 
-impl From<&Brdf> for GpuMaterial {
-    fn from(brdf: &Brdf) -> Self {
+/// The id of `brdf`'s diffuse lobe under a Cook-Torrance lobe (`DIFFUSE_*` of `shaders/brdf/cook_torrance.glsl`;
+/// unread by the other models, 0).
+pub fn diffuse_id(brdf: &Brdf) -> u32 {
+    match brdf {
+        Brdf::CookTorrance { diffuse: DiffuseModel::Lambert, .. } => DIFFUSE_LAMBERT,
+        _ => DIFFUSE_OREN_NAYAR,
+    }
+}
+
+impl GpuMaterial {
+    /// `brdf`'s material, its measured table (if any) at its place in `tables`.
+    pub fn new(brdf: &Brdf, tables: &MeasuredTables) -> Self {
         let rgb = |v: Vec3| v.extend(0.0).to_array();
         let base = GpuMaterial { brdf: brdf_id(brdf), ..GpuMaterial::default() };
         match *brdf {
@@ -179,30 +194,28 @@ impl From<&Brdf> for GpuMaterial {
             Brdf::OrenNayar { kd, sigma } => GpuMaterial { kd: rgb(kd), sigma, ..base },
             Brdf::Phong { kd, ks, shininess } => GpuMaterial { kd: rgb(kd), ks: rgb(ks), shininess, ..base },
             Brdf::BlinnPhong { kd, ks, shininess } => GpuMaterial { kd: rgb(kd), ks: rgb(ks), shininess, ..base },
-            Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse } => GpuMaterial {
+            Brdf::CookTorrance { kd, f0, roughness, metalness, .. } => GpuMaterial {
                 brdf: BRDF_COOK_TORRANCE,
                 kd: rgb(kd),
                 f0: rgb(f0),
                 roughness,
                 metalness,
-                diffuse: match diffuse {
-                    DiffuseModel::OrenNayar => DIFFUSE_OREN_NAYAR,
-                    DiffuseModel::Lambert => DIFFUSE_LAMBERT,
-                },
+                diffuse: diffuse_id(brdf),
                 ..base
             },
+            Brdf::Measured(ref table) => GpuMaterial { measured: tables.slot(table), ..base },
         }
     }
 }
 
 impl GpuObject {
-    /// An object placed by `model`.
-    pub fn new(object: &Object, model: Mat4) -> Self {
+    /// An object placed by `model`, its measured table (if any) in `tables`.
+    pub fn new(object: &Object, model: Mat4, tables: &MeasuredTables) -> Self {
         let two_sided = matches!(object.shape, Shape::Plane { .. } | Shape::Triangles(_));
         Self {
             model: model.to_cols_array_2d(),
             normal_matrix: model.inverse().transpose().to_cols_array_2d(),
-            material: GpuMaterial::from(&object.brdf),
+            material: GpuMaterial::new(&object.brdf, tables),
             flags: [u32::from(two_sided), 0, 0, 0],
         }
     }
@@ -316,8 +329,8 @@ mod tests {
                 ("roughness", offset_of!(GpuMaterial, roughness)),
                 ("metalness", offset_of!(GpuMaterial, metalness)),
                 ("diffuse", offset_of!(GpuMaterial, diffuse)),
-                ("pad0", offset_of!(GpuMaterial, pad)),
-                ("pad1", offset_of!(GpuMaterial, pad) + 4),
+                ("measured", offset_of!(GpuMaterial, measured)),
+                ("pad1", offset_of!(GpuMaterial, pad)),
             ],
         );
         assert_offsets(

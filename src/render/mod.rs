@@ -5,6 +5,7 @@ mod environment;
 pub mod exact;
 mod forward;
 pub mod gpu_types;
+mod measured;
 mod occluders;
 mod passes;
 mod picture;
@@ -33,12 +34,13 @@ use environment::{EnvironmentTextures, MAP_FORMAT};
 use exact::{Accuracy, Passes, SAMPLES_PER_PASS};
 use forward::{ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
 use gpu_types::{GpuAlbedoEntry, GpuFrame, GpuObject, GpuPointLight};
+use measured::MeasuredTables;
 use occluders::{faces_with_occluders, occluders};
 use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
 pub use picture::Picture;
 use probe::{read_vec3s, ProbePass};
 pub use probe::{AlbedoCell, AlbedoJob, CellIntegral, ProbeCase};
-use scene_data::{SceneData, SceneImages, SceneValues};
+use scene_data::{SceneData, SceneResources, SceneValues};
 use shadow::{cube_face_views, faces_read_by, lookup_margin, FaceKey, ShadowCubes, ShadowPass, DISTANCE_FORMAT};
 use targets::{Targets, BYTES_PER_PIXEL};
 
@@ -79,6 +81,8 @@ pub struct Renderer {
     /// The environment of the last scene that had one (per scene), or black placeholders.
     environment: EnvironmentTextures,
     environment_sampler: Sampler,
+    /// The measured materials' tables of the last work that had any.
+    measured: MeasuredTables,
     /// The fast mode's albedo tables, by material (per process: they depend on the material alone).
     albedo_tables: Vec<(Brdf, Vec<GpuAlbedoEntry>)>,
     /// How exact the last image's environment light was, when it was integrated in the exact mode.
@@ -150,6 +154,7 @@ impl Renderer {
             scene_data: None,
             environment,
             environment_sampler,
+            measured: MeasuredTables::new(&device)?,
             albedo_tables: Vec::new(),
             accuracy: None,
             device,
@@ -388,7 +393,7 @@ impl Renderer {
                 specular: rgba(s.rho),
             })
             .collect();
-        self.albedo_tables.push((*brdf, table.clone()));
+        self.albedo_tables.push((brdf.clone(), table.clone()));
         Ok(table)
     }
 
@@ -431,7 +436,8 @@ impl Renderer {
     /// # Errors
     /// `Error::Shader`, `Error::Vulkan` or `Error::Allocation`; `Error::Validation` if the layer complained.
     pub fn probe_brdfs(&mut self, cases: &[ProbeCase]) -> Result<Vec<Vec3>> {
-        self.with_probe(|probe| probe.run(cases))
+        self.measured.hold(&self.device, cases.iter().map(|c| &c.brdf))?;
+        self.with_probe(|probe, tables| probe.run(cases, tables))
     }
 
     /// Integrates f_r cos(theta_i) of `brdf_eval` over every cell of the hemisphere on the GPU (the albedo
@@ -440,16 +446,17 @@ impl Renderer {
     /// # Errors
     /// As [`Renderer::probe_brdfs`].
     pub fn probe_albedo_cells(&mut self, jobs: &[AlbedoJob], cells: &[AlbedoCell]) -> Result<Vec<CellIntegral>> {
-        self.with_probe(|probe| probe.integrate(jobs, cells))
+        self.measured.hold(&self.device, jobs.iter().map(|j| &j.brdf))?;
+        self.with_probe(|probe, tables| probe.integrate(jobs, cells, tables))
     }
 
-    /// Runs `work` with the probe pass, built on first use and kept.
-    fn with_probe<T>(&mut self, work: impl FnOnce(&ProbePass) -> Result<T>) -> Result<T> {
+    /// Runs `work` with the probe pass, built on first use and kept, and the measured tables.
+    fn with_probe<T>(&mut self, work: impl FnOnce(&ProbePass, &MeasuredTables) -> Result<T>) -> Result<T> {
         let probe = match self.probe.take() {
             Some(probe) => probe,
             None => ProbePass::new(&self.device, &self.compiler)?,
         };
-        let results = work(&probe);
+        let results = work(&probe, &self.measured);
         self.probe = Some(probe);
         let results = results?;
         self.check_validation()?;
@@ -510,8 +517,13 @@ impl Renderer {
                 GpuPointLight::new(light, shadow_casters.iter().position(|&c| c == i).map(|cube| (cube, seen[cube])))
             })
             .collect();
-        let objects: Vec<GpuObject> =
-            scene.objects.iter().zip(placed).map(|(object, p)| GpuObject::new(object, p.model)).collect();
+        self.measured.hold(&device, scene.objects.iter().map(|o| &o.brdf))?;
+        let objects: Vec<GpuObject> = scene
+            .objects
+            .iter()
+            .zip(placed)
+            .map(|(object, p)| GpuObject::new(object, p.model, &self.measured))
+            .collect();
         // Every face of every cube, in the order of the array's layers.
         let shadow_faces: Vec<PassView> = shadow_casters
             .iter()
@@ -554,9 +566,10 @@ impl Renderer {
             let setting = format!("image.width x height x samples = {width} x {height} x {}", scene.image.samples);
             too_big(e, scene, setting, "render targets", bytes)
         })?;
-        let images = SceneImages {
+        let images = SceneResources {
             shadow_cubes: (cubes.maps.view, &self.shadow_sampler),
             environment: (&self.environment, &self.environment_sampler),
+            measured: self.measured.buffer(),
         };
         let scene_data = match self.scene_data.take() {
             Some(mut data) => {
@@ -815,7 +828,8 @@ const COPY_READ: Access = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRAN
 
 /// The descriptor set layout and push constants shared by the shadow and forward passes: the frame (0),
 /// lights (1), objects (2), the shadow cubes' face matrices (3), the shadow cubes (4), the environment's map
-/// (5), its prefiltered layers (6), its sampling table (7) and the objects' albedo tables (8); the push constants
+/// (5), its prefiltered layers (6), its sampling table (7), the objects' albedo tables (8) and the measured
+/// tables (9); the push constants
 /// name the object drawn and, in the shadow pass, the light and the cube face.
 fn scene_layout(device: &Arc<Device>) -> Result<Arc<PipelineLayout>> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
@@ -836,6 +850,7 @@ fn scene_layout(device: &Arc<Device>) -> Result<Arc<PipelineLayout>> {
         binding(6, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
         binding(7, vk::DescriptorType::STORAGE_BUFFER),
         binding(8, vk::DescriptorType::STORAGE_BUFFER),
+        binding(9, vk::DescriptorType::STORAGE_BUFFER),
     ];
     let push = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: 12 }];
     device.create_pipeline_layout(&[&bindings], &push, "scene layout")

@@ -8,12 +8,13 @@ use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
 use super::gpu_types::GpuMaterial;
+use super::measured::MeasuredTables;
 use crate::brdf::Brdf;
 use crate::error::{Error, Result};
 use crate::vulkan::{Buffer, BufferDesc, Descriptor, Device, Pipeline, ShaderCompiler};
 
 /// One evaluation: f_r(wi, wo) of a material at a surface with normal n.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ProbeCase {
     pub brdf: Brdf,
     pub n: Vec3,
@@ -32,7 +33,7 @@ struct GpuProbeCase {
 }
 
 /// One job of the albedo probe: a material seen from `wo`, in the frame n = +z, wo in the xz-plane.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct AlbedoJob {
     pub brdf: Brdf,
     pub wo: Vec3,
@@ -88,38 +89,43 @@ impl ProbePass {
     /// `Error::Shader` or `Error::Vulkan`.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler) -> Result<Self> {
         Ok(Self {
-            eval: storage_pipeline(device, compiler, "brdf_probe.comp", 2)?,
-            albedo: storage_pipeline(device, compiler, "brdf_albedo.comp", 3)?,
+            eval: storage_pipeline(device, compiler, "brdf_probe.comp", 3)?,
+            albedo: storage_pipeline(device, compiler, "brdf_albedo.comp", 4)?,
             device: device.clone(),
         })
     }
 
-    /// Evaluates every case on the GPU.
+    /// Evaluates every case on the GPU, their measured tables in `tables`.
     ///
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
-    pub fn run(&self, cases: &[ProbeCase]) -> Result<Vec<Vec3>> {
+    pub fn run(&self, cases: &[ProbeCase], tables: &MeasuredTables) -> Result<Vec<Vec3>> {
         let gpu_cases: Vec<GpuProbeCase> = cases
             .iter()
             .map(|c| GpuProbeCase {
-                material: GpuMaterial::from(&c.brdf),
+                material: GpuMaterial::new(&c.brdf, tables),
                 n: c.n.extend(0.0).into(),
                 wi: c.wi.extend(0.0).into(),
                 wo: c.wo.extend(0.0).into(),
             })
             .collect();
-        let bytes = self.dispatch(&self.eval, &[self.input(&gpu_cases, "probe cases")?], cases.len(), 16)?;
+        let bytes = self.dispatch(&self.eval, &[self.input(&gpu_cases, "probe cases")?], tables, cases.len(), 16)?;
         Ok(read_vec3s(&bytes, 16))
     }
 
-    /// Integrates f_r cos(theta_i) over every cell on the GPU.
+    /// Integrates f_r cos(theta_i) over every cell on the GPU, the jobs' measured tables in `tables`.
     ///
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
-    pub fn integrate(&self, jobs: &[AlbedoJob], cells: &[AlbedoCell]) -> Result<Vec<CellIntegral>> {
+    pub fn integrate(
+        &self,
+        jobs: &[AlbedoJob],
+        cells: &[AlbedoCell],
+        tables: &MeasuredTables,
+    ) -> Result<Vec<CellIntegral>> {
         let gpu_jobs: Vec<GpuAlbedoJob> = jobs
             .iter()
-            .map(|job| GpuAlbedoJob { material: GpuMaterial::from(&job.brdf), wo: job.wo.extend(0.0).into() })
+            .map(|job| GpuAlbedoJob { material: GpuMaterial::new(&job.brdf, tables), wo: job.wo.extend(0.0).into() })
             .collect();
         let gpu_cells: Vec<GpuAlbedoCell> = cells
             .iter()
@@ -130,7 +136,7 @@ impl ProbePass {
             })
             .collect();
         let inputs = [self.input(&gpu_jobs, "albedo jobs")?, self.input(&gpu_cells, "albedo cells")?];
-        let bytes = self.dispatch(&self.albedo, &inputs, cells.len(), 32)?;
+        let bytes = self.dispatch(&self.albedo, &inputs, tables, cells.len(), 32)?;
         let estimates = read_vec3s(&bytes, 16);
         Ok(estimates.chunks_exact(2).map(|pair| CellIntegral { kronrod: pair[0], gauss: pair[1] }).collect())
     }
@@ -139,9 +145,16 @@ impl ProbePass {
         self.device.create_buffer_with_data(data, vk::BufferUsageFlags::STORAGE_BUFFER, name)
     }
 
-    /// Runs `pipeline` once per element over `inputs` (its first bindings) and a results buffer of
-    /// `result_size` bytes per element (its last), and returns the results' bytes.
-    fn dispatch(&self, pipeline: &Pipeline, inputs: &[Buffer], count: usize, result_size: usize) -> Result<Vec<u8>> {
+    /// Runs `pipeline` once per element over `inputs` (its first bindings), a results buffer of `result_size`
+    /// bytes per element (the next) and the measured tables (the last), and returns the results' bytes.
+    fn dispatch(
+        &self,
+        pipeline: &Pipeline,
+        inputs: &[Buffer],
+        tables: &MeasuredTables,
+        count: usize,
+        result_size: usize,
+    ) -> Result<Vec<u8>> {
         if count == 0 {
             return Ok(Vec::new());
         }
@@ -154,7 +167,7 @@ impl ProbePass {
             },
             "probe results",
         )?;
-        let buffers: Vec<&Buffer> = inputs.iter().chain([&output]).collect();
+        let buffers: Vec<&Buffer> = inputs.iter().chain([&output, tables.buffer()]).collect();
         let pool = device.create_descriptor_pool(
             1,
             &[vk::DescriptorPoolSize {

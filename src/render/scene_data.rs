@@ -33,11 +33,13 @@ pub struct SceneValues<'a> {
     pub environment_albedo: &'a [GpuAlbedoEntry],
 }
 
-/// The images the shaders read: the shadow cubes, and the environment's map, tables and layers.
+/// What the shaders read besides the values: the shadow cubes, the environment's map, tables and layers, and
+/// the measured tables.
 #[derive(Clone, Copy)]
-pub struct SceneImages<'a> {
+pub struct SceneResources<'a> {
     pub shadow_cubes: (vk::ImageView, &'a Sampler),
     pub environment: (&'a EnvironmentTextures, &'a Sampler),
+    pub measured: &'a Buffer,
 }
 
 impl SceneData {
@@ -49,14 +51,14 @@ impl SceneData {
         device: &Arc<Device>,
         layout: &PipelineLayout,
         values: &SceneValues,
-        images: SceneImages,
+        images: SceneResources,
     ) -> Result<Self> {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let pool = device.create_descriptor_pool(
             1,
             &[
                 vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: 1 },
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 5 },
+                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 6 },
                 vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 3 },
             ],
         )?;
@@ -84,7 +86,7 @@ impl SceneData {
     ///
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
-    pub fn write(&mut self, device: &Arc<Device>, values: &SceneValues, images: SceneImages) -> Result<()> {
+    pub fn write(&mut self, device: &Arc<Device>, values: &SceneValues, images: SceneResources) -> Result<()> {
         write_growing(device, &mut self.frame, &[values.frame], "frame")?;
         write_growing(device, &mut self.lights, values.lights, "lights")?;
         write_growing(device, &mut self.objects, values.objects, "objects")?;
@@ -94,7 +96,7 @@ impl SceneData {
         Ok(())
     }
 
-    fn descriptors<'a>(&'a self, images: SceneImages<'a>) -> [Descriptor<'a>; 9] {
+    fn descriptors<'a>(&'a self, images: SceneResources<'a>) -> [Descriptor<'a>; 10] {
         let (cubes, sampler) = images.shadow_cubes;
         let (environment, map_sampler) = images.environment;
         let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
@@ -108,6 +110,7 @@ impl SceneData {
             Descriptor::SampledImage(environment.prefiltered.view, map_sampler, read_only),
             Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &environment.sampling),
             Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &self.environment_albedo),
+            Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, images.measured),
         ]
     }
 }

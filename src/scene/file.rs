@@ -136,6 +136,7 @@ pub struct MaterialSection {
     pub roughness: Option<f32>,
     pub metalness: Option<f32>,
     pub diffuse: Option<String>,
+    pub file: Option<String>,
 }
 
 /// One `[[object]]`: the keys of every shape, each checked against the shape in validation.

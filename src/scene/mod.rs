@@ -579,7 +579,7 @@ mod tests {
                     [[object]]\nshape = \"plane\"\npoint = [0, -2, 0]\nnormal = [0, 1, 0]\nmaterial = \"c\"\n\
                     [[object]]\nshape = \"mesh\"\npath = \"bunny\"\nmaterial = \"d\"\n";
         let scene = parse(text, &[]).unwrap();
-        let brdfs: Vec<Brdf> = scene.objects.iter().map(|o| o.brdf).collect();
+        let brdfs: Vec<Brdf> = scene.objects.iter().map(|o| o.brdf.clone()).collect();
         let (half, gold) = (Vec3::splat(0.5), Vec3::new(1.0, 0.85, 0.57));
         assert_eq!(brdfs[0], Brdf::OrenNayar { kd: half, sigma: 0.6 });
         assert_eq!(brdfs[1], Brdf::Phong { kd: Vec3::splat(0.35), ks: Vec3::splat(0.15), shininess: 16.0 });

@@ -13,7 +13,7 @@ use super::{
     BuiltinEnvironment, Camera, Encoding, Environment, EnvironmentMode, EnvironmentSource, ImageSettings, Object,
     PointLight, Scene, ShadowFilter, Shape, Tonemap, View, BUNNY_PATH, MAX_IMAGE_SIDE, MAX_LIGHTS,
 };
-use crate::brdf::{Brdf, DiffuseModel};
+use crate::brdf::{Brdf, DiffuseModel, Measured};
 
 type Check<T> = Result<T, String>;
 
@@ -36,7 +36,7 @@ pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
     let materials = raw
         .materials
         .iter()
-        .map(|(name, m)| Ok((name.clone(), material(name, m)?)))
+        .map(|(name, m)| Ok((name.clone(), material(name, m, path)?)))
         .collect::<Check<BTreeMap<_, _>>>()?;
     let objects =
         raw.objects.iter().enumerate().map(|(i, o)| object(i, o, &materials, path)).collect::<Check<Vec<_>>>()?;
@@ -194,15 +194,16 @@ fn light(index: usize, s: &LightSection) -> Check<PointLight> {
 }
 
 /// The BRDF names, and the parameters each one takes.
-const BRDF_PARAMETERS: [(&str, &[&str]); 5] = [
+const BRDF_PARAMETERS: [(&str, &[&str]); 6] = [
     ("lambert", &["kd"]),
     ("oren-nayar", &["kd", "sigma"]),
     ("phong", &["kd", "ks", "shininess"]),
     ("blinn-phong", &["kd", "ks", "shininess"]),
     ("cook-torrance", &["kd", "f0", "roughness", "metalness", "diffuse"]),
+    ("measured", &["file"]),
 ];
 
-fn material(name: &str, s: &MaterialSection) -> Check<Brdf> {
+fn material(name: &str, s: &MaterialSection, scene_path: &Path) -> Check<Brdf> {
     let key = |param: &str| format!("material.{name}.{param}");
     let Some(&(_, accepted)) = BRDF_PARAMETERS.iter().find(|(brdf, _)| *brdf == s.brdf) else {
         let names: Vec<_> = BRDF_PARAMETERS.iter().map(|(brdf, _)| format!("\"{brdf}\"")).collect();
@@ -222,6 +223,7 @@ fn material(name: &str, s: &MaterialSection) -> Check<Brdf> {
         ("roughness", s.roughness.is_some()),
         ("metalness", s.metalness.is_some()),
         ("diffuse", s.diffuse.is_some()),
+        ("file", s.file.is_some()),
     ];
     if let Some((param, _)) = present.iter().find(|(param, set)| *set && !accepted.contains(param)) {
         return Err(format!("{}: not a parameter of brdf {:?} (it takes {})", key(param), s.brdf, accepted.join(", ")));
@@ -233,6 +235,16 @@ fn material(name: &str, s: &MaterialSection) -> Check<Brdf> {
         let rgb = value.ok_or_else(|| format!("{}: missing, and brdf {:?} needs it", key(param), s.brdf))?;
         unit_interval(&key(param), rgb)
     };
+    if s.brdf == "measured" {
+        let file =
+            s.file.as_deref().ok_or_else(|| format!("{}: missing, and brdf \"measured\" needs it", key("file")))?;
+        // Read now, so that a bad file stops the scene like any bad value (and every object naming the
+        // material shares the one table).
+        let path = beside_scene(file, scene_path);
+        return Measured::load(&path)
+            .map(Brdf::Measured)
+            .map_err(|e| format!("{} = {}: {e}", key("file"), quoted(file)));
+    }
     let kd = reflectance("kd", s.kd)?;
     Ok(match s.brdf.as_str() {
         "lambert" => Brdf::Lambert { kd },
@@ -301,7 +313,7 @@ fn object(index: usize, s: &ObjectSection, materials: &BTreeMap<String, Brdf>, s
     if let Some((name, _)) = present.iter().find(|(name, set)| *set && !accepted.contains(name)) {
         return Err(format!("{}: not a key of a {} (it takes {})", key(name), s.shape, accepted.join(", ")));
     }
-    let brdf = *materials.get(&s.material).ok_or_else(|| {
+    let brdf = materials.get(&s.material).cloned().ok_or_else(|| {
         let defined: Vec<_> = materials.keys().map(String::as_str).collect();
         let defined = if defined.is_empty() { "none".to_string() } else { defined.join(", ") };
         format!("{} = {:?}: no [material.{}] is defined (defined: {defined})", key("material"), s.material, s.material)

@@ -1,0 +1,98 @@
+#ifndef BRDF_MEASURED_GLSL
+#define BRDF_MEASURED_GLSL
+
+#include "common/math.glsl"
+
+// Measured materials: MERL tables (Matusik, Pfister, Brand and McMillan 2003, "A Data-Driven Reflectance
+// Model"), indexed as the database's reader, BRDFRead.cpp, indexes them, and interpolated trilinearly between
+// the entries' centres. Mirrors src/brdf/measured.rs, function by function.
+
+// Every table the scene's materials use, one after the other (a material's `measured` is its table's place),
+// f_r of each entry red, green and blue interleaved; a negative value was not measured. The binding is the
+// including shader's (set 0).
+#ifndef MEASURED_BINDING
+#error "MEASURED_BINDING: define the binding of the measured tables before including brdf/measured.glsl"
+#endif
+layout(set = 0, binding = MEASURED_BINDING, std430) readonly buffer MeasuredTables { float measured_tables[]; };
+
+// BRDF_SAMPLING_RES_THETA_H, _THETA_D and _PHI_D / 2 of BRDFRead.cpp.
+const uint MERL_THETA_H_BINS = 90u;
+const uint MERL_THETA_D_BINS = 90u;
+const uint MERL_PHI_D_BINS = 180u;
+const uint MERL_ENTRIES = MERL_THETA_H_BINS * MERL_THETA_D_BINS * MERL_PHI_D_BINS;
+
+// A unit vector perpendicular to unit n.
+vec3 any_tangent(vec3 n) {
+    vec3 axis = abs(n.x) < 0.5 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    return normalize(axis - n * dot(n, axis));
+}
+
+// (theta_h, theta_d, phi_d) of Rusinkiewicz's half and difference vectors (1998, "A new change of variables for
+// efficient BRDF representation"), as std_coords_to_half_diff_coords of BRDFRead.cpp: wi in the frame where h
+// lies in the xz-plane, turned by -theta_h about y. phi_d in (-pi, pi].
+vec3 half_diff_angles(vec3 n, vec3 wi, vec3 wo) {
+    vec3 h = normalize(wi + wo);
+    float NoH = clamp(dot(n, h), -1.0, 1.0);
+    // When h is n, phi_h is undefined (the reader takes 0) and any tangent is one.
+    vec3 toward_h = h - n * NoH;
+    vec3 t = dot(toward_h, toward_h) > 1e-12 ? normalize(toward_h) : any_tangent(n);
+    vec3 b = cross(n, t);
+    float sin_theta_h = length(cross(n, h));
+    float x = dot(wi, t * NoH - n * sin_theta_h);
+    float y = dot(wi, b);
+    return vec3(atan(sin_theta_h, NoH), acos(clamp(dot(wi, h), -1.0, 1.0)), atan(y, x));
+}
+
+// The table's continuous coordinates, entry k's centre at k: theta_h's index is sqrt(theta_h / 90 degrees) * 90
+// (theta_half_index), theta_d's theta_d / 90 degrees * 90, phi_d's phi_d / 180 degrees * 180 once folded to
+// [0, 180) degrees by reciprocity (phi_diff_index adds 180 degrees to a negative phi_d).
+vec3 measured_coordinates(vec3 angles) {
+    float phi_d = angles.z < 0.0 ? angles.z + PI : angles.z;
+    return vec3(sqrt(max(angles.x, 0.0) / (0.5 * PI)) * float(MERL_THETA_H_BINS) - 0.5,
+                angles.y / (0.5 * PI) * float(MERL_THETA_D_BINS) - 0.5,
+                phi_d / PI * float(MERL_PHI_D_BINS) - 0.5);
+}
+
+// Entry (theta_h, theta_d, phi_d) of table `table`: phi_d + 180 (theta_d + 90 theta_h) (lookup_brdf_val).
+vec3 measured_entry(uint table, uint theta_h, uint theta_d, uint phi_d) {
+    uint index = phi_d + MERL_PHI_D_BINS * (theta_d + MERL_THETA_D_BINS * theta_h);
+    uint i = 3u * (table * MERL_ENTRIES + index);
+    return vec3(measured_tables[i], measured_tables[i + 1u], measured_tables[i + 2u]);
+}
+
+// Trilinear between the eight entries around c, theta_h and theta_d held at their first and last entries'
+// centres, phi_d wrapping round (180 degrees is 0 again); per channel, the measured corners only, their weights
+// renormalised, and 0 where none is.
+vec3 measured_lookup(uint table, vec3 c) {
+    float th = clamp(c.x, 0.0, float(MERL_THETA_H_BINS - 1u));
+    float td = clamp(c.y, 0.0, float(MERL_THETA_D_BINS - 1u));
+    vec3 corner = floor(vec3(th, td, c.z));
+    vec3 f = vec3(th, td, c.z) - corner;
+    uint h[2] = uint[](uint(corner.x), min(uint(corner.x) + 1u, MERL_THETA_H_BINS - 1u));
+    uint d[2] = uint[](uint(corner.y), min(uint(corner.y) + 1u, MERL_THETA_D_BINS - 1u));
+    // corner.z is -1 below the first entry's centre: 179, the last, by the wrap (a whole turn added first,
+    // since % of a negative number is undefined in GLSL).
+    uint p0 = uint(corner.z + float(MERL_PHI_D_BINS)) % MERL_PHI_D_BINS;
+    uint p[2] = uint[](p0, (p0 + 1u) % MERL_PHI_D_BINS);
+    vec3 sum = vec3(0.0);
+    vec3 weight = vec3(0.0);
+    for (int i = 0; i < 2; ++i) {
+        for (int j = 0; j < 2; ++j) {
+            for (int k = 0; k < 2; ++k) {
+                vec3 v = measured_entry(table, h[i], d[j], p[k]);
+                vec3 measured = vec3(greaterThanEqual(v, vec3(0.0)));
+                float w = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y) * (k == 0 ? 1.0 - f.z : f.z);
+                sum += w * measured * v;
+                weight += w * measured;
+            }
+        }
+    }
+    return mix(vec3(0.0), sum / max(weight, vec3(1e-30)), greaterThan(weight, vec3(0.0)));
+}
+
+// f_r(wi, wo) of table `table` about n, both above the horizon.
+vec3 measured(uint table, vec3 n, vec3 wi, vec3 wo) {
+    return measured_lookup(table, measured_coordinates(half_diff_angles(n, wi, wo)));
+}
+
+#endif
