@@ -1,119 +1,310 @@
-//! `vk-render fit`: the parameters of one model that best match a material's lobe, printed, and with `-o` the
-//! lobes overlaid.
+//! `vk-render fit`: the parameters of one model (or of every model, ranked) that best match a material,
+//! printed, and with `-o` the lobes overlaid; a measured material by the measure of Ngan et al. 2005; a folder
+//! of MERL files as the table of every material by every model.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use super::{progress, SetArgs};
-use vk_render::analysis::fit::{fit, DEFAULT_THETA_I, FIT_MODELS, FIT_STEPS};
+use vk_render::analysis::fit::{fit, fit_measurement, Fit, DEFAULT_THETA_I, FIT_MODELS, FIT_STEPS, NGAN_MAX_THETA};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
-use vk_render::analysis::{describe, rgb, select_materials, Channel};
-use vk_render::brdf::Brdf;
-use vk_render::chart::{write_chart, ChartFile, LobeChart, Series, PALETTE};
+use vk_render::analysis::{describe, rgb, select_materials, Channel, NamedBrdf};
+use vk_render::brdf::{Brdf, Measured};
+use vk_render::chart::{write_chart, ChartFile, LineChart, LobeChart, Series, PALETTE};
+use vk_render::output::write_file;
 use vk_render::{Renderer, RendererOptions, Scene};
+
+/// What `--to` takes besides a model: every model, ranked.
+const ALL: &str = "all";
 
 #[derive(Args)]
 pub struct FitArgs {
-    /// The scene file that defines the material.
+    /// The scene file that defines the material, or a folder of MERL files (.binary) to fit every one of.
     scene: PathBuf,
 
-    /// The material to match, by its [material.NAME].
+    /// The material to match, by its [material.NAME] (not with a folder).
     #[arg(long, value_name = "NAME")]
-    material: String,
+    material: Option<String>,
 
-    /// The model to fit to it.
-    #[arg(long, value_name = "MODEL", value_parser = clap::builder::PossibleValuesParser::new(FIT_MODELS))]
+    /// The model to fit to it, or "all": every model, ranked by their residuals.
+    #[arg(long, value_name = "MODEL", value_parser = clap::builder::PossibleValuesParser::new(
+        FIT_MODELS.iter().chain(&[ALL]).copied().collect::<Vec<_>>()))]
     to: String,
 
-    /// The incidence angles the lobes are matched over, degrees from the normal, 0 to below 90.
+    /// The incidence angles the lobes are matched over (an analytic material) or drawn at (-o), degrees
+    /// from the normal, 0 to below 90.
     #[arg(long, value_name = "DEGREES,...", value_delimiter = ',', default_values_t = DEFAULT_THETA_I)]
     theta_i: Vec<f64>,
 
-    /// Also draw both lobes at each incidence angle, overlaid: .png or .svg.
+    /// A material: also draw its lobe and the fits' at each incidence angle, overlaid (.png or .svg). A
+    /// folder: the table of every material by every model (.csv).
     #[arg(short, long, value_name = "OUT")]
     output: Option<PathBuf>,
+
+    /// A folder: also draw each model's residuals over the materials, sorted (.png or .svg), as Ngan et
+    /// al. 2005 show them.
+    #[arg(long, value_name = "OUT")]
+    chart: Option<PathBuf>,
 
     #[command(flatten)]
     set: SetArgs,
 }
 
-/// Fits, prints the parameters and the residual, and draws the lobes if asked.
+/// Fits, prints the parameters and the residuals, and draws what is asked.
 pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
-    let scene = Scene::load(&args.scene, &args.set.overrides)?;
-    let target = select_materials(&scene, Some(std::slice::from_ref(&args.material)))?.remove(0);
     for &theta_i in &args.theta_i {
         if !(0.0..90.0).contains(&theta_i) {
             anyhow::bail!("--theta-i {theta_i}: an incidence angle is from 0 to below 90 degrees");
         }
     }
+    let models: Vec<&str> = if args.to == ALL { FIT_MODELS.to_vec() } else { vec![args.to.as_str()] };
+    if args.scene.is_dir() {
+        return run_folder(&args, &models, options);
+    }
+    if args.chart.is_some() {
+        anyhow::bail!("--chart: the sorted residuals are drawn for a folder of MERL files");
+    }
+    let Some(material) = &args.material else {
+        anyhow::bail!("--material: which [material.NAME] of {} to fit", args.scene.display());
+    };
+    let scene = Scene::load(&args.scene, &args.set.overrides)?;
+    let target = select_materials(&scene, Some(std::slice::from_ref(material)))?.remove(0);
     if let Some(output) = &args.output {
         if ChartFile::for_path(output).is_none() {
             anyhow::bail!("{}: the lobes are drawn as .png or .svg", output.display());
         }
     }
     let mut renderer = Renderer::new(options)?;
-    let bar = progress(FIT_STEPS, "fit");
-    let fitted = fit(&mut renderer, &target.brdf, &args.to, &args.theta_i, |tried| bar.set_position(tried as u64))?;
-    bar.finish_and_clear();
-    let Some(fitted) = fitted else {
-        anyhow::bail!("--to {}: not a model (expected one of {})", args.to, FIT_MODELS.join(", "));
-    };
-    let angles: Vec<String> = args.theta_i.iter().map(f64::to_string).collect();
-    println!(
-        "{} ({}) fitted with {} over theta_i = {} degrees:",
-        target.name,
-        describe(&target.brdf),
-        args.to,
-        angles.join(", ")
-    );
-    for (name, value) in parameters(&fitted.brdf) {
-        println!("{name} = {value}");
+    let mut fits = Vec::new();
+    for model in &models {
+        fits.push((*model, fit_to(&mut renderer, &target.brdf, model, &args.theta_i)?));
     }
-    println!(
-        "residual = {:.6} (root mean square of f_r cos theta_o over the hemispheres, luminance; the material's own: \
-         {:.6}, so {:.2}%)",
-        fitted.residual,
-        fitted.target_rms,
-        100.0 * fitted.residual / fitted.target_rms.max(f64::MIN_POSITIVE)
-    );
-    if let (Brdf::CookTorrance { roughness, .. }, "blinn-phong" | "phong") = (&target.brdf, args.to.as_str()) {
-        let alpha = f64::from(*roughness * *roughness);
-        println!(
-            "Walter et al. 2007: shininess = 2 / alpha^2 - 2 = {:.1} for alpha = roughness^2 = {alpha:.4} (that mapping is \
-             Beckmann's, and Blinn-Phong's; this lobe is GGX)",
-            2.0 / (alpha * alpha) - 2.0
-        );
-    }
+    print_fits(&target, &fits, &args.theta_i);
     if let Some(output) = &args.output {
-        let angles = lobe_angles();
-        let mut series = Vec::new();
-        let mut incident = Vec::new();
-        for (k, &theta_i) in args.theta_i.iter().enumerate() {
-            let cut = LobeCut { theta_i, phi: 0.0, cosine: true };
-            let values = lobes(&mut renderer, &[target.brdf.clone(), fitted.brdf.clone()], &cut)?;
-            let colour = PALETTE[k % PALETTE.len()];
-            incident.push((theta_i, colour));
-            for (values, (label, dashed)) in
-                values.into_iter().zip([(target.name.as_str(), false), (args.to.as_str(), true)])
-            {
-                series.push(Series {
-                    label: format!("{label}{}, θi {theta_i}°", if dashed { " (fit)" } else { "" }),
-                    colour,
-                    points: angles.iter().zip(values).map(|(&a, f)| (a, Channel::Luminance.of(rgb(f)))).collect(),
-                    dashed,
-                });
-            }
-        }
-        let chart = LobeChart {
-            title: format!("{} and its {} fit (dashed): f_r cos θo, plane of incidence", target.name, args.to),
-            quantity: "f_r cos θo (luminance)".into(),
-            series,
-            incident,
-        };
-        write_chart(&chart, output)?;
+        draw_lobes(&mut renderer, &target, &fits, &args.theta_i, output)?;
     }
     Ok(())
+}
+
+/// One fit, with a progress bar: by Ngan et al.'s measure for a measurement, over the hemisphere otherwise.
+fn fit_to(renderer: &mut Renderer, target: &Brdf, model: &str, theta_i: &[f64]) -> anyhow::Result<Fit> {
+    let bar = progress(FIT_STEPS, model);
+    let tried = |tried: usize| bar.set_position(tried as u64);
+    let fitted = match target {
+        Brdf::Measured(measured) => fit_measurement(renderer, measured, model, tried)?,
+        _ => fit(renderer, target, model, theta_i, tried)?,
+    };
+    bar.finish_and_clear();
+    fitted.ok_or_else(|| anyhow::anyhow!("--to {model}: not a model (expected one of {})", FIT_MODELS.join(", ")))
+}
+
+/// The measure's words, for the printed lines.
+fn measure_words(target: &Brdf, theta_i: &[f64]) -> String {
+    match target {
+        Brdf::Measured(_) => format!(
+            "by the measure of Ngan et al. 2005 (f_r cos theta_i over the measured entries with theta_i and \
+             theta_o below {NGAN_MAX_THETA} degrees, solid-angle weighted, root mean square over red, green and \
+             blue)"
+        ),
+        _ => {
+            let angles: Vec<String> = theta_i.iter().map(f64::to_string).collect();
+            format!(
+                "over theta_i = {} degrees (root mean square of f_r cos theta_o over the hemispheres, luminance)",
+                angles.join(", ")
+            )
+        }
+    }
+}
+
+fn print_fits(target: &NamedBrdf, fits: &[(&str, Fit)], theta_i: &[f64]) {
+    let relative = |fit: &Fit| 100.0 * fit.residual / fit.target_rms.max(f64::MIN_POSITIVE);
+    if let [(model, fitted)] = fits {
+        println!(
+            "{} ({}) fitted with {model} {}:",
+            target.name,
+            describe(&target.brdf),
+            measure_words(&target.brdf, theta_i)
+        );
+        for (name, value) in parameters(&fitted.brdf) {
+            println!("{name} = {value}");
+        }
+        println!(
+            "residual = {:.6} (the material's own: {:.6}, so {:.2}%)",
+            fitted.residual,
+            fitted.target_rms,
+            relative(fitted)
+        );
+        if let (Brdf::CookTorrance { roughness, .. }, "blinn-phong" | "phong") = (&target.brdf, *model) {
+            let alpha = f64::from(*roughness * *roughness);
+            println!(
+                "Walter et al. 2007: shininess = 2 / alpha^2 - 2 = {:.1} for alpha = roughness^2 = {alpha:.4} (that \
+                 mapping is Beckmann's, and Blinn-Phong's; this lobe is GGX)",
+                2.0 / (alpha * alpha) - 2.0
+            );
+        }
+        return;
+    }
+    println!(
+        "{} ({}) fitted with every model {}, best first:",
+        target.name,
+        describe(&target.brdf),
+        measure_words(&target.brdf, theta_i)
+    );
+    let mut ranked: Vec<&(&str, Fit)> = fits.iter().collect();
+    ranked.sort_by(|a, b| a.1.residual.total_cmp(&b.1.residual));
+    for (rank, (model, fitted)) in ranked.into_iter().enumerate() {
+        let values: Vec<String> = parameters(&fitted.brdf).into_iter().map(|(n, v)| format!("{n} = {v}")).collect();
+        println!(
+            "{}. {model:<14} residual {:.6} ({:.2}%)  {}",
+            rank + 1,
+            fitted.residual,
+            relative(fitted),
+            values.join(", ")
+        );
+    }
+}
+
+/// The material's lobe and each fit's at every incidence angle, overlaid: one colour per incidence angle
+/// for one fit, one per model for several.
+fn draw_lobes(
+    renderer: &mut Renderer,
+    target: &NamedBrdf,
+    fits: &[(&str, Fit)],
+    theta_i: &[f64],
+    output: &Path,
+) -> anyhow::Result<()> {
+    let angles = lobe_angles();
+    let mut series = Vec::new();
+    let mut incident = Vec::new();
+    let several = fits.len() > 1;
+    for (k, &theta) in theta_i.iter().enumerate() {
+        let cut = LobeCut { theta_i: theta, phi: 0.0, cosine: true };
+        let brdfs: Vec<Brdf> =
+            std::iter::once(target.brdf.clone()).chain(fits.iter().map(|(_, f)| f.brdf.clone())).collect();
+        let values = lobes(renderer, &brdfs, &cut)?;
+        let angle_colour = PALETTE[k % PALETTE.len()];
+        incident.push((theta, if several { plotters::style::BLACK } else { angle_colour }));
+        let labels = std::iter::once(target.name.as_str()).chain(fits.iter().map(|(m, _)| *m));
+        for (index, (values, label)) in values.into_iter().zip(labels).enumerate() {
+            let colour = match (several, index) {
+                (true, 0) => plotters::style::BLACK,
+                (true, _) => PALETTE[(index - 1) % PALETTE.len()],
+                (false, _) => angle_colour,
+            };
+            let fitted = index > 0;
+            // With several incidence angles and models, the legend names each model once.
+            let label = match (several, k) {
+                (true, 0) | (false, _) => format!("{label}{}, θi {theta}°", if fitted { " (fit)" } else { "" }),
+                (true, _) => String::new(),
+            };
+            series.push(Series {
+                label,
+                colour,
+                points: angles.iter().zip(values).map(|(&a, f)| (a, Channel::Luminance.of(rgb(f)))).collect(),
+                dashed: fitted,
+            });
+        }
+    }
+    let models: Vec<&str> = fits.iter().map(|(m, _)| *m).collect();
+    let chart = LobeChart {
+        title: format!(
+            "{} and its {} fit{} (dashed): f_r cos θo, plane of incidence",
+            target.name,
+            models.join(", "),
+            if several { "s" } else { "" }
+        ),
+        quantity: "f_r cos θo (luminance)".into(),
+        series,
+        incident,
+    };
+    write_chart(&chart, output)?;
+    Ok(())
+}
+
+/// Every MERL file of a folder fitted with every model: printed as each is done, then the CSV table and the
+/// sorted residuals' chart.
+fn run_folder(args: &FitArgs, models: &[&str], options: RendererOptions) -> anyhow::Result<()> {
+    if args.material.is_some() {
+        anyhow::bail!("--material: a folder's materials are its MERL files, every one fitted");
+    }
+    if let Some(output) = &args.output {
+        if output.extension().and_then(|e| e.to_str()) != Some("csv") {
+            anyhow::bail!("{}: a folder's table is written as .csv", output.display());
+        }
+    }
+    if let Some(chart) = &args.chart {
+        if ChartFile::for_path(chart).is_none() {
+            anyhow::bail!("{}: the residuals are drawn as .png or .svg", chart.display());
+        }
+    }
+    let folder = &args.scene;
+    let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
+        .map_err(|e| anyhow::anyhow!("{}: cannot be read: {e}", folder.display()))?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().and_then(|e| e.to_str()) == Some("binary"))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        anyhow::bail!("{}: holds no MERL file (NAME.binary)", folder.display());
+    }
+    let mut renderer = Renderer::new(options)?;
+    let mut table: Vec<(String, Vec<f64>)> = Vec::new();
+    for file in &files {
+        let name = file.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        let measured = Measured::load(file).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let mut residuals = Vec::new();
+        for model in models {
+            let fitted = fit_to(&mut renderer, &Brdf::Measured(measured.clone()), model, &args.theta_i)?;
+            residuals.push(fitted.residual);
+        }
+        let cells: Vec<String> = models.iter().zip(&residuals).map(|(m, r)| format!("{m} {r:.6}")).collect();
+        println!("{name}: {}", cells.join(", "));
+        table.push((name, residuals));
+    }
+    if let Some(output) = &args.output {
+        let mut csv = format!("material,{}\n", models.join(","));
+        for (name, residuals) in &table {
+            let cells: Vec<String> = residuals.iter().map(f64::to_string).collect();
+            csv.push_str(&format!("{name},{}\n", cells.join(",")));
+        }
+        write_file(output, csv.as_bytes())?;
+    }
+    if let Some(chart) = &args.chart {
+        write_chart(&sorted_residuals(models, &table), chart)?;
+    }
+    Ok(())
+}
+
+/// Each model's residuals over the materials, sorted, on a log scale (Ngan et al. 2005's figure of the
+/// fitting errors).
+fn sorted_residuals(models: &[&str], table: &[(String, Vec<f64>)]) -> LineChart {
+    let series: Vec<Series> = models
+        .iter()
+        .enumerate()
+        .map(|(k, model)| {
+            let mut residuals: Vec<f64> = table.iter().map(|(_, r)| r[k].max(1e-12).log10()).collect();
+            residuals.sort_by(f64::total_cmp);
+            Series {
+                label: (*model).to_string(),
+                colour: PALETTE[k % PALETTE.len()],
+                points: residuals.into_iter().enumerate().map(|(i, r)| ((i + 1) as f64, r)).collect(),
+                dashed: false,
+            }
+        })
+        .collect();
+    let values: Vec<f64> = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).collect();
+    let (low, high) = values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
+    LineChart {
+        title: format!("Fitting residuals of {} materials, each model's sorted", table.len()),
+        x_label: "material, by rank".into(),
+        y_label: "log10 E (Ngan et al. 2005)".into(),
+        x_range: (1.0, table.len().max(2) as f64),
+        y_range: (low.floor(), high.ceil().max(low.floor() + 1.0)),
+        series,
+        horizontal_rules: Vec::new(),
+        size: (900, 560),
+    }
 }
 
 /// The model's parameters as `name = value` lines would name them.
