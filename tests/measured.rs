@@ -347,7 +347,8 @@ fn bad_measured_files_are_refused_in_one_line() {
 }
 
 /// Every command that takes a material takes a measured one: tabulate writes it, and render, plot (lobe,
-/// albedo, slice, lobe3d), furnace, compare and sweep read it.
+/// slice, lobe3d), furnace, compare and sweep read it (`plot albedo` integrates as the furnace does, and
+/// `a_copys_lobes_and_albedo_are_its_models` checks its values).
 #[test]
 fn every_command_takes_a_measured_material() {
     let dir = temp_dir();
@@ -383,15 +384,6 @@ fn every_command_takes_a_measured_material() {
             "30".into(),
             "-o".into(),
             out("lobe.csv"),
-        ],
-        vec![
-            "plot".into(),
-            "albedo".into(),
-            s.into(),
-            "--material".into(),
-            "copper".into(),
-            "-o".into(),
-            out("albedo.csv"),
         ],
         vec![
             "plot".into(),

@@ -6,6 +6,7 @@
 pub use crate::render::albedo;
 pub mod fit;
 pub mod furnace;
+pub mod image_fit;
 pub mod lobe;
 pub mod lobe3d;
 pub mod slice;

@@ -6,7 +6,11 @@ use std::path::Path;
 use image::RgbImage;
 
 use super::catalogue::{Mistake, ShowsOn, CATALOGUE};
+use super::MATCH_RMS;
 use super::{diagnose, regions, render_candidates, scene_that_tells_apart, Candidate, Diagnosis, Region, Verdict};
+use crate::analysis::fit::parameters;
+use crate::analysis::image_fit::{fit_image, ImageFit};
+use crate::brdf::Brdf;
 use crate::error::{Error, Result};
 use crate::figures::practical_image;
 use crate::render::Renderer;
@@ -22,6 +26,61 @@ pub struct Checked {
     /// For a tie: the practical's scene that tells the tied mistakes apart, and by how many levels their
     /// renders differ there at least (`None` when no scene does, or there is no tie).
     pub tells_apart: Option<(ShowsOn, f64)>,
+    /// When no mistake explains the image: the objects whose own model, its parameters fitted to the image,
+    /// explains their pixels where the scene's parameters do not.
+    pub wrong_parameters: Vec<WrongParameters>,
+}
+
+/// An object whose pixels the scene's own model explains with other parameters.
+pub struct WrongParameters {
+    pub object: usize,
+    /// The fit of the object's model to the image.
+    pub fitted: ImageFit,
+    /// The parameters that differ from the scene's: name, the fitted components, the scene's.
+    pub differing: Vec<(&'static str, Vec<f32>, Vec<f32>)>,
+}
+
+/// A fit explains an object's pixels when its residual is within the match tolerance and at most this share
+/// of the scene's own material's on the same pixels.
+const EXPLAINS: f64 = 0.5;
+
+/// Each object whose own model, fitted to `mine`, explains its pixels where the scene's parameters do not
+/// (see [`WrongParameters`]); a parameter differs beyond three standard errors, 2% of the scene's value and
+/// 0.01. Objects a fit cannot read (a measured material, an environment's light, too few pixels) are passed.
+///
+/// # Errors
+/// What rendering and the reference return, but a fit's refusal of the scene or the image.
+fn wrong_parameters(renderer: &mut Renderer, mine: &RgbImage, scene: &Scene) -> Result<Vec<WrongParameters>> {
+    let mut found = Vec::new();
+    for (object, target) in scene.objects.iter().enumerate() {
+        if matches!(target.brdf, Brdf::Measured(_)) {
+            continue;
+        }
+        let fitted = match fit_image(renderer, scene, mine, Path::new("image"), object, target.brdf.name(), |_| {}) {
+            Ok(Some(fitted)) => fitted,
+            Ok(None) | Err(Error::Scene { .. } | Error::Input { .. }) => continue,
+            Err(other) => return Err(other),
+        };
+        if fitted.residual_levels > MATCH_RMS || fitted.residual_levels > EXPLAINS * fitted.scene_levels {
+            continue;
+        }
+        let differing: Vec<_> = fitted
+            .parameters
+            .iter()
+            .zip(parameters(&target.brdf))
+            .filter(|(p, (_, given))| {
+                p.values.iter().zip(given).zip(&p.errors).any(|((&value, &given), error)| {
+                    let tolerance = (3.0 * error.unwrap_or(0.0)).max(0.02 * f64::from(given.abs())).max(0.01);
+                    f64::from((value - given).abs()) > tolerance
+                })
+            })
+            .map(|(p, (_, given))| (p.name, p.values.clone(), given))
+            .collect();
+        if !differing.is_empty() {
+            found.push(WrongParameters { object, fitted, differing });
+        }
+    }
+    Ok(found)
 }
 
 impl Checked {
@@ -63,9 +122,12 @@ pub fn check_image(
     let diagnosis = diagnose(mine, &candidates);
     let traced = crate::reference::render(scene)?;
     let regions = regions(mine, &candidates[0].image, &traced.object_ids);
-    let mut checked = Checked { candidates, diagnosis, regions, tells_apart: None };
+    let mut checked = Checked { candidates, diagnosis, regions, tells_apart: None, wrong_parameters: Vec::new() };
     if matches!(checked.diagnosis.verdict, Verdict::Tie(_)) {
         checked.tells_apart = scene_that_tells_apart(renderer, &checked.mistakes(), mine.dimensions())?;
+    }
+    if checked.diagnosis.verdict == Verdict::Unexplained {
+        checked.wrong_parameters = wrong_parameters(renderer, mine, scene)?;
     }
     Ok(checked)
 }

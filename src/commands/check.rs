@@ -149,6 +149,30 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
             mistakes.first().copied()
         }
         Verdict::Unexplained => {
+            for wrong in &checked.wrong_parameters {
+                let object = &scene.objects[wrong.object];
+                let shown = |values: &[f32]| {
+                    let v: Vec<String> = values.iter().map(|x| format!("{:.3}", x)).map(trimmed).collect();
+                    if let [one] = &v[..] {
+                        one.clone()
+                    } else {
+                        format!("[{}]", v.join(", "))
+                    }
+                };
+                let fitted: Vec<String> =
+                    wrong.differing.iter().map(|(n, v, _)| format!("{n} = {}", shown(v))).collect();
+                let given: Vec<String> = wrong.differing.iter().map(|(_, _, g)| shown(g)).collect();
+                println!(
+                    "diagnosis: {} matches the correct {} with {}; the scene says {} (its pixels fitted within {:.2} \
+                     levels, the scene's parameters {:.2})",
+                    object_name(&scene, Some(wrong.object)),
+                    object.brdf.name(),
+                    fitted.join(", "),
+                    given.join(", "),
+                    wrong.fitted.residual_levels,
+                    wrong.fitted.scene_levels
+                );
+            }
             println!("diagnosis: no known mistake explains your image; the differences lie in:");
             let mut worst: Vec<_> = checked.regions.iter().filter(|r| r.stats.over > 0.01).collect();
             worst.sort_by(|a, b| b.stats.over.total_cmp(&a.stats.over));
@@ -196,6 +220,15 @@ fn verdict_line(verdict: &Verdict) -> String {
 fn scene_words((name, overrides): (&str, &[&str])) -> String {
     let sets: Vec<String> = overrides.iter().map(|o| format!("--set '{o}'")).collect();
     format!("{name} {}", sets.join(" ")).trim_end().to_string()
+}
+
+/// A number printed to three decimals without its trailing zeros.
+fn trimmed(text: String) -> String {
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
 }
 
 fn object_name(scene: &Scene, object: Option<usize>) -> String {

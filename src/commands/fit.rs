@@ -1,17 +1,21 @@
 //! `vk-render fit`: the parameters of one model (or of every model, ranked) that best match a material,
 //! printed, and with `-o` the lobes overlaid; a measured material by the measure of Ngan et al. 2005; a folder
-//! of MERL files as the table of every material by every model.
+//! of MERL files as the table of every material by every model; an object's pixels in an image of its scene.
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 
 use super::{progress, SetArgs};
-use vk_render::analysis::fit::{fit, fit_measurement, Fit, DEFAULT_THETA_I, FIT_MODELS, FIT_STEPS, NGAN_MAX_THETA};
+use vk_render::analysis::fit::{
+    fit, fit_measurement, parameters, Fit, DEFAULT_THETA_I, FIT_MODELS, FIT_STEPS, NGAN_MAX_THETA,
+};
+use vk_render::analysis::image_fit::{fit_image, Determined};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::{describe, rgb, select_materials, Channel, NamedBrdf};
 use vk_render::brdf::{Brdf, Measured};
 use vk_render::chart::{write_chart, ChartFile, LineChart, LobeChart, Series, PALETTE};
+use vk_render::check::report::read_image;
 use vk_render::output::write_file;
 use vk_render::{Renderer, RendererOptions, Scene};
 
@@ -21,7 +25,21 @@ const ALL: &str = "all";
 #[derive(Args)]
 pub struct FitArgs {
     /// The scene file that defines the material, or a folder of MERL files (.binary) to fit every one of.
-    scene: PathBuf,
+    #[arg(required_unless_present = "image")]
+    scene: Option<PathBuf>,
+
+    /// Fit to an image instead: an 8-bit PNG or JPEG of the scene of --scene, at its size, whose object
+    /// --object is fitted from its pixels (point lights; clipped pixels and edges left out).
+    #[arg(long, value_name = "IMAGE", requires_all = ["image_scene", "object"], conflicts_with = "scene")]
+    image: Option<PathBuf>,
+
+    /// With --image: the scene the image shows.
+    #[arg(long = "scene", id = "image_scene", value_name = "SCENE", requires = "image")]
+    image_scene: Option<PathBuf>,
+
+    /// With --image: the object fitted, by its place among the scene's [[object]]s (from 0).
+    #[arg(long, value_name = "N", requires = "image")]
+    object: Option<usize>,
 
     /// The material to match, by its [material.NAME] (not with a folder).
     #[arg(long, value_name = "NAME")]
@@ -59,16 +77,22 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
         }
     }
     let models: Vec<&str> = if args.to == ALL { FIT_MODELS.to_vec() } else { vec![args.to.as_str()] };
-    if args.scene.is_dir() {
-        return run_folder(&args, &models, options);
+    if let (Some(image), Some(scene), Some(object)) = (&args.image, &args.image_scene, args.object) {
+        return run_image(&args, image, scene, object, &models, options);
+    }
+    let Some(scene_path) = &args.scene else {
+        anyhow::bail!("fit: give a scene file, a folder of MERL files, or --image with --scene and --object");
+    };
+    if scene_path.is_dir() {
+        return run_folder(&args, scene_path, &models, options);
     }
     if args.chart.is_some() {
         anyhow::bail!("--chart: the sorted residuals are drawn for a folder of MERL files");
     }
     let Some(material) = &args.material else {
-        anyhow::bail!("--material: which [material.NAME] of {} to fit", args.scene.display());
+        anyhow::bail!("--material: which [material.NAME] of {} to fit", scene_path.display());
     };
-    let scene = Scene::load(&args.scene, &args.set.overrides)?;
+    let scene = Scene::load(scene_path, &args.set.overrides)?;
     let target = select_materials(&scene, Some(std::slice::from_ref(material)))?.remove(0);
     if let Some(output) = &args.output {
         if ChartFile::for_path(output).is_none() {
@@ -126,7 +150,7 @@ fn print_fits(target: &NamedBrdf, fits: &[(&str, Fit)], theta_i: &[f64]) {
             describe(&target.brdf),
             measure_words(&target.brdf, theta_i)
         );
-        for (name, value) in parameters(&fitted.brdf) {
+        for (name, value) in parameter_lines(&fitted.brdf) {
             println!("{name} = {value}");
         }
         println!(
@@ -154,7 +178,8 @@ fn print_fits(target: &NamedBrdf, fits: &[(&str, Fit)], theta_i: &[f64]) {
     let mut ranked: Vec<&(&str, Fit)> = fits.iter().collect();
     ranked.sort_by(|a, b| a.1.residual.total_cmp(&b.1.residual));
     for (rank, (model, fitted)) in ranked.into_iter().enumerate() {
-        let values: Vec<String> = parameters(&fitted.brdf).into_iter().map(|(n, v)| format!("{n} = {v}")).collect();
+        let values: Vec<String> =
+            parameter_lines(&fitted.brdf).into_iter().map(|(n, v)| format!("{n} = {v}")).collect();
         println!(
             "{}. {model:<14} residual {:.6} ({:.2}%)  {}",
             rank + 1,
@@ -224,7 +249,7 @@ fn draw_lobes(
 
 /// Every MERL file of a folder fitted with every model: printed as each is done, then the CSV table and the
 /// sorted residuals' chart.
-fn run_folder(args: &FitArgs, models: &[&str], options: RendererOptions) -> anyhow::Result<()> {
+fn run_folder(args: &FitArgs, folder: &Path, models: &[&str], options: RendererOptions) -> anyhow::Result<()> {
     if args.material.is_some() {
         anyhow::bail!("--material: a folder's materials are its MERL files, every one fitted");
     }
@@ -238,7 +263,6 @@ fn run_folder(args: &FitArgs, models: &[&str], options: RendererOptions) -> anyh
             anyhow::bail!("{}: the residuals are drawn as .png or .svg", chart.display());
         }
     }
-    let folder = &args.scene;
     let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
         .map_err(|e| anyhow::anyhow!("{}: cannot be read: {e}", folder.display()))?
         .filter_map(|entry| entry.ok().map(|e| e.path()))
@@ -307,21 +331,88 @@ fn sorted_residuals(models: &[&str], table: &[(String, Vec<f64>)]) -> LineChart 
     }
 }
 
-/// The model's parameters as `name = value` lines would name them.
-fn parameters(brdf: &Brdf) -> Vec<(&'static str, String)> {
-    let colour = |c: glam::Vec3| format!("[{}, {}, {}]", c.x, c.y, c.z);
-    match *brdf {
-        Brdf::Lambert { kd } => vec![("kd", colour(kd))],
-        Brdf::OrenNayar { kd, sigma } => vec![("kd", colour(kd)), ("sigma", sigma.to_string())],
-        Brdf::Phong { kd, ks, shininess } | Brdf::BlinnPhong { kd, ks, shininess } => {
-            vec![("kd", colour(kd)), ("ks", colour(ks)), ("shininess", shininess.to_string())]
-        }
-        Brdf::CookTorrance { kd, f0, roughness, metalness, .. } => vec![
-            ("kd", colour(kd)),
-            ("f0", colour(f0)),
-            ("roughness", roughness.to_string()),
-            ("metalness", metalness.to_string()),
-        ],
-        Brdf::Measured(ref table) => vec![("file", format!("{:?}", table.path().display().to_string()))],
+/// An object's pixels in an image fitted with each model: the parameters with their standard errors, and the
+/// residuals in levels (ranked for several models).
+fn run_image(
+    args: &FitArgs,
+    image_path: &Path,
+    scene_path: &Path,
+    object: usize,
+    models: &[&str],
+    options: RendererOptions,
+) -> anyhow::Result<()> {
+    if args.material.is_some() || args.output.is_some() || args.chart.is_some() {
+        anyhow::bail!(
+            "--image: the object's own material is fitted, and nothing is drawn (no --material, -o or --chart)"
+        );
     }
+    let scene = Scene::load(scene_path, &args.set.overrides)?;
+    let image = read_image(image_path)?;
+    let mut renderer = Renderer::new(options)?;
+    let mut fits = Vec::new();
+    for model in models {
+        let bar = progress(FIT_STEPS, model);
+        let fitted =
+            fit_image(&mut renderer, &scene, &image, image_path, object, model, |t| bar.set_position(t as u64))?;
+        bar.finish_and_clear();
+        fits.push((*model, fitted.ok_or_else(|| anyhow::anyhow!("--to {model}: not a model"))?));
+    }
+    fits.sort_by(|a, b| a.1.residual_levels.total_cmp(&b.1.residual_levels));
+    let target = &scene.objects[object];
+    for (rank, (model, fitted)) in fits.iter().enumerate() {
+        let heading = if fits.len() > 1 { format!("{}. ", rank + 1) } else { String::new() };
+        println!(
+            "{heading}object {object} ({}, material {}) of {} fitted with {model} over {} pixels:",
+            target.shape.kind(),
+            target.material,
+            image_path.display(),
+            fitted.pixels
+        );
+        for parameter in &fitted.parameters {
+            println!("{}", determined_line(parameter));
+        }
+        println!(
+            "residual = {:.2} levels (root mean square over the pixels' channels; the scene's own {}: {:.2})",
+            fitted.residual_levels,
+            describe(&target.brdf),
+            fitted.scene_levels
+        );
+    }
+    Ok(())
+}
+
+/// `name = value ± error`, colours as `[r, g, b] ± [er, eg, eb]`, each value to the digits its error
+/// allows; "(not determined by these pixels)" for an error there is none of.
+fn determined_line(parameter: &Determined) -> String {
+    let shown = |value: f32, error: Option<f64>| match error {
+        Some(error) if error > 0.0 => {
+            let decimals = (1 - error.log10().floor() as i32).clamp(0, 8) as usize;
+            (format!("{value:.decimals$}"), format!("{error:.decimals$}"))
+        }
+        _ => (value.to_string(), "?".into()),
+    };
+    let pairs: Vec<(String, String)> =
+        parameter.values.iter().zip(&parameter.errors).map(|(&v, &e)| shown(v, e)).collect();
+    let undetermined = parameter.errors.iter().any(Option::is_none);
+    let note = if undetermined { " (? : not determined by these pixels)" } else { "" };
+    if let [(value, error)] = &pairs[..] {
+        return format!("{} = {value} ± {error}{note}", parameter.name);
+    }
+    let values: Vec<&str> = pairs.iter().map(|p| p.0.as_str()).collect();
+    let errors: Vec<&str> = pairs.iter().map(|p| p.1.as_str()).collect();
+    format!("{} = [{}] ± [{}]{note}", parameter.name, values.join(", "), errors.join(", "))
+}
+
+/// The model's parameters as `name = value` lines would name them.
+fn parameter_lines(brdf: &Brdf) -> Vec<(&'static str, String)> {
+    if let Brdf::Measured(table) = brdf {
+        return vec![("file", format!("{:?}", table.path().display().to_string()))];
+    }
+    parameters(brdf)
+        .into_iter()
+        .map(|(name, values)| {
+            let shown: Vec<String> = values.iter().map(f32::to_string).collect();
+            (name, if let [one] = &shown[..] { one.clone() } else { format!("[{}]", shown.join(", ")) })
+        })
+        .collect()
 }

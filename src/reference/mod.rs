@@ -145,6 +145,88 @@ struct Hit {
     normal: Vec3,
 }
 
+/// What the reference sees at a pixel's centre, without the material: the object, its shading normal (a
+/// plane's facing the viewer, a mesh's bent over the horizon as the renders bend it), the direction to the
+/// camera and each point light's arrival.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfacePoint {
+    pub object: usize,
+    pub n: Vec3,
+    pub wo: Vec3,
+    /// Per light of the scene, in its order.
+    pub lights: Vec<LightArrival>,
+}
+
+/// A point light as it arrives at a surface point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightArrival {
+    /// The unit direction to the light.
+    pub wi: Vec3,
+    /// Its radiance at the point times cos(theta_i): colour * power / d^2 * max(0, n . wi), so that the
+    /// reflected radiance is f_r(wi, wo) times it.
+    pub irradiance: Vec3,
+    /// Whether the light reaches the point (hard shadows by shadow rays; always for a light that casts none).
+    pub visible: bool,
+}
+
+impl SurfacePoint {
+    /// The radiance the point lights reflect by `f` (f_r of wi, wo about n), the unseen ones left out.
+    fn reflected(&self, f: impl Fn(Vec3, Vec3, Vec3) -> Vec3) -> Vec3 {
+        self.lights.iter().filter(|l| l.visible).map(|l| f(self.n, l.wi, self.wo) * l.irradiance).sum()
+    }
+}
+
+/// The surface point seen through each pixel's centre (None where the background is), row after row:
+/// the geometry of a render without its materials, which a fit to an image solves for.
+///
+/// # Errors
+/// As [`render`].
+pub fn surface_points(scene: &Scene) -> Result<Vec<Option<SurfacePoint>>> {
+    let geometry = build_geometry(scene)?;
+    let rays = CameraRays::new(scene);
+    let points = crate::parallel::rows(scene.image.height, |y| {
+        (0..scene.image.width)
+            .map(|x| {
+                let direction = rays.through(x, y);
+                let hit = nearest_hit(&geometry, scene.camera.position, direction, f32::INFINITY)?;
+                Some(surface_point(scene, &geometry, &hit, scene.camera.position + hit.t * direction, -direction))
+            })
+            .collect()
+    });
+    Ok(points)
+}
+
+/// The camera rays through pixel centres, in the course's camera frame (w backwards, u to the image's right,
+/// v up).
+struct CameraRays {
+    u: Vec3,
+    v: Vec3,
+    w: Vec3,
+    half_width: f32,
+    half_height: f32,
+    width: f32,
+    height: f32,
+}
+
+impl CameraRays {
+    fn new(scene: &Scene) -> Self {
+        let camera = &scene.camera;
+        let w = (camera.position - camera.look_at).normalize();
+        let u = camera.up.cross(w).normalize();
+        let v = w.cross(u);
+        let half_height = (camera.fov_y.to_radians() * 0.5).tan();
+        let (width, height) = (scene.image.width as f32, scene.image.height as f32);
+        Self { u, v, w, half_width: half_height * width / height, half_height, width, height }
+    }
+
+    /// The unit ray through the centre of pixel (x, y).
+    fn through(&self, x: u32, y: u32) -> Vec3 {
+        let sx = (2.0 * (x as f32 + 0.5) / self.width - 1.0) * self.half_width;
+        let sy = (1.0 - 2.0 * (y as f32 + 0.5) / self.height) * self.half_height;
+        (sx * self.u + sy * self.v - self.w).normalize()
+    }
+}
+
 /// Ray-traces the scene, an environment's light with [`DEFAULT_SAMPLES`] samples a pixel.
 ///
 /// # Errors
@@ -169,19 +251,12 @@ pub fn render_with_samples(scene: &Scene, samples: u32) -> Result<ReferenceImage
         .map(|(environment, map)| EnvironmentLight::new(PlacedEnvironment { map, environment }, samples));
     let (width, height) = (scene.image.width, scene.image.height);
     let camera = &scene.camera;
-    // The course's camera frame: w points backwards, u to the image's right, v up.
-    let w = (camera.position - camera.look_at).normalize();
-    let u = camera.up.cross(w).normalize();
-    let v = w.cross(u);
-    let half_height = (camera.fov_y.to_radians() * 0.5).tan();
-    let half_width = half_height * width as f32 / height as f32;
+    let rays = CameraRays::new(scene);
 
     let trace_row = |y: u32| -> Vec<(Vec3, Option<usize>, Vec3)> {
         (0..width)
             .map(|x| {
-                let sx = (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * half_width;
-                let sy = (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * half_height;
-                let direction = (sx * u + sy * v - w).normalize();
+                let direction = rays.through(x, y);
                 let seed = u64::from(y) << 32 | u64::from(x);
                 match nearest_hit(&geometry, camera.position, direction, f32::INFINITY) {
                     Some(hit) => {
@@ -342,6 +417,17 @@ fn shade(
     seed: u64,
 ) -> (Vec3, Vec3) {
     let reflectance = &reflectances[hit.object];
+    let point = surface_point(scene, geometry, hit, p, wo);
+    let from_environment = environment.map(|light| light.reflected(reflectance, point.n, wo, seed));
+    let from_lights = point.reflected(|n, wi, wo| reflectance.eval(n, wi, wo));
+    match from_environment {
+        Some(estimate) => (from_lights + estimate.radiance, estimate.standard_error),
+        None => (from_lights, Vec3::ZERO),
+    }
+}
+
+/// The shading normal at a hit, and how each light arrives there.
+fn surface_point(scene: &Scene, geometry: &[Geometry], hit: &Hit, p: Vec3, wo: Vec3) -> SurfacePoint {
     let mut n = hit.normal;
     match geometry[hit.object] {
         // A plane is seen from either side: its normal faces the viewer.
@@ -351,29 +437,20 @@ fn shade(
     }
     // Shadow rays leave from just above the surface so that it does not shadow itself.
     let origin = p + n * (1e-4 * p.abs().max_element().max(1.0));
-    let from_environment = environment.map(|light| light.reflected(reflectance, n, wo, seed));
-    let from_lights: Vec3 = scene
+    let lights = scene
         .lights
         .iter()
         .map(|light| {
             let to_light = light.position - p;
             let d2 = to_light.length_squared();
-            let distance = d2.sqrt();
-            let wi = to_light / distance;
+            let wi = to_light / d2.sqrt();
             let cos = n.dot(wi);
-            if cos <= 0.0 {
-                return Vec3::ZERO;
-            }
-            if light.shadows && nearest_hit(geometry, origin, wi, (light.position - origin).length()).is_some() {
-                return Vec3::ZERO;
-            }
-            reflectance.eval(n, wi, wo) * light.color * light.power / d2 * cos
+            let visible = cos > 0.0
+                && !(light.shadows && nearest_hit(geometry, origin, wi, (light.position - origin).length()).is_some());
+            LightArrival { wi, irradiance: light.color * light.power / d2 * cos.max(0.0), visible }
         })
-        .sum();
-    match from_environment {
-        Some(estimate) => (from_lights + estimate.radiance, estimate.standard_error),
-        None => (from_lights, Vec3::ZERO),
-    }
+        .collect();
+    SurfacePoint { object: hit.object, n, wo, lights }
 }
 
 #[cfg(test)]

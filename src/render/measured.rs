@@ -8,7 +8,7 @@ use ash::vk;
 
 use crate::brdf::measured::ENTRIES;
 use crate::brdf::{Brdf, Measured};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::vulkan::{Buffer, Device};
 
 /// The buffer, and which table is at which place in it.
@@ -33,7 +33,8 @@ impl MeasuredTables {
     /// the buffer (the passes wait for theirs).
     ///
     /// # Errors
-    /// `Error::Vulkan` or `Error::Allocation`.
+    /// `Error::Device` when the tables are more than one storage buffer may hold (`maxStorageBufferRange`: 7
+    /// tables on lavapipe's 128 MiB), `Error::Vulkan` or `Error::Allocation`.
     pub fn hold<'a>(&mut self, device: &Arc<Device>, brdfs: impl IntoIterator<Item = &'a Brdf>) -> Result<()> {
         let mut wanted: Vec<&Measured> = Vec::new();
         for brdf in brdfs {
@@ -45,6 +46,18 @@ impl MeasuredTables {
         }
         if wanted.iter().all(|w| self.held.iter().any(|h| h.same_table(w))) {
             return Ok(());
+        }
+        let bytes = (wanted.len() * 3 * ENTRIES * std::mem::size_of::<f32>()) as u64;
+        let range = u64::from(device.limits.max_storage_buffer_range);
+        if bytes > range {
+            return Err(Error::Device(format!(
+                "{} measured materials at once need {} MiB of tables, over this device's storage buffer range of {} \
+                 MiB ({} tables)",
+                wanted.len(),
+                bytes >> 20,
+                range >> 20,
+                range / (bytes / wanted.len() as u64)
+            )));
         }
         let mut values = Vec::with_capacity(wanted.len() * 3 * ENTRIES);
         for table in &wanted {

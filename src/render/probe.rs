@@ -100,17 +100,27 @@ impl ProbePass {
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
     pub fn run(&self, cases: &[ProbeCase], tables: &MeasuredTables) -> Result<Vec<Vec3>> {
-        let gpu_cases: Vec<GpuProbeCase> = cases
-            .iter()
-            .map(|c| GpuProbeCase {
-                material: GpuMaterial::new(&c.brdf, tables),
-                n: c.n.extend(0.0).into(),
-                wi: c.wi.extend(0.0).into(),
-                wo: c.wo.extend(0.0).into(),
-            })
-            .collect();
-        let bytes = self.dispatch(&self.eval, &[self.input(&gpu_cases, "probe cases")?], tables, cases.len(), 16)?;
-        Ok(read_vec3s(&bytes, 16))
+        let mut values = Vec::with_capacity(cases.len());
+        for chunk in cases.chunks(self.per_dispatch::<GpuProbeCase>()) {
+            let gpu_cases: Vec<GpuProbeCase> = chunk
+                .iter()
+                .map(|c| GpuProbeCase {
+                    material: GpuMaterial::new(&c.brdf, tables),
+                    n: c.n.extend(0.0).into(),
+                    wi: c.wi.extend(0.0).into(),
+                    wo: c.wo.extend(0.0).into(),
+                })
+                .collect();
+            let input = self.input(&gpu_cases, "probe cases")?;
+            values.extend(read_vec3s(&self.dispatch(&self.eval, &[&input], tables, chunk.len(), 16)?, 16));
+        }
+        Ok(values)
+    }
+
+    /// How many elements of `T` one dispatch takes: as many as a storage buffer may hold
+    /// (`maxStorageBufferRange`: 128 MiB on lavapipe), at most 2^20 (the memory a dispatch holds at once).
+    fn per_dispatch<T>(&self) -> usize {
+        (self.device.limits.max_storage_buffer_range as usize / std::mem::size_of::<T>()).clamp(1, 1 << 20)
     }
 
     /// Integrates f_r cos(theta_i) over every cell on the GPU, the jobs' measured tables in `tables`.
@@ -127,18 +137,23 @@ impl ProbePass {
             .iter()
             .map(|job| GpuAlbedoJob { material: GpuMaterial::new(&job.brdf, tables), wo: job.wo.extend(0.0).into() })
             .collect();
-        let gpu_cells: Vec<GpuAlbedoCell> = cells
-            .iter()
-            .map(|cell| GpuAlbedoCell {
-                bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1],
-                job: cell.job,
-                pad: [0; 3],
-            })
-            .collect();
-        let inputs = [self.input(&gpu_jobs, "albedo jobs")?, self.input(&gpu_cells, "albedo cells")?];
-        let bytes = self.dispatch(&self.albedo, &inputs, tables, cells.len(), 32)?;
-        let estimates = read_vec3s(&bytes, 16);
-        Ok(estimates.chunks_exact(2).map(|pair| CellIntegral { kronrod: pair[0], gauss: pair[1] }).collect())
+        let jobs_buffer = self.input(&gpu_jobs, "albedo jobs")?;
+        let mut integrals = Vec::with_capacity(cells.len());
+        for chunk in cells.chunks(self.per_dispatch::<GpuAlbedoCell>()) {
+            let gpu_cells: Vec<GpuAlbedoCell> = chunk
+                .iter()
+                .map(|cell| GpuAlbedoCell {
+                    bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1],
+                    job: cell.job,
+                    pad: [0; 3],
+                })
+                .collect();
+            let cells_buffer = self.input(&gpu_cells, "albedo cells")?;
+            let bytes = self.dispatch(&self.albedo, &[&jobs_buffer, &cells_buffer], tables, chunk.len(), 32)?;
+            let estimates = read_vec3s(&bytes, 16);
+            integrals.extend(estimates.chunks_exact(2).map(|pair| CellIntegral { kronrod: pair[0], gauss: pair[1] }));
+        }
+        Ok(integrals)
     }
 
     fn input<T: Copy>(&self, data: &[T], name: &str) -> Result<Buffer> {
@@ -150,7 +165,7 @@ impl ProbePass {
     fn dispatch(
         &self,
         pipeline: &Pipeline,
-        inputs: &[Buffer],
+        inputs: &[&Buffer],
         tables: &MeasuredTables,
         count: usize,
         result_size: usize,
@@ -167,7 +182,7 @@ impl ProbePass {
             },
             "probe results",
         )?;
-        let buffers: Vec<&Buffer> = inputs.iter().chain([&output, tables.buffer()]).collect();
+        let buffers: Vec<&Buffer> = inputs.iter().copied().chain([&output, tables.buffer()]).collect();
         let pool = device.create_descriptor_pool(
             1,
             &[vk::DescriptorPoolSize {

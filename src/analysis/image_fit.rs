@@ -1,0 +1,377 @@
+//! Fitting a model to an image: the parameters of one object's material whose render best explains its
+//! pixels in an 8-bit image of the scene, the scene's own geometry and lights known.
+//!
+//! At each pixel the CPU reference gives what the render shades at the pixel's centre: the normal, the view
+//! direction, and each point light's direction, radiance times cosine and visibility. The radiance there is
+//! then sum over visible lights of f_r(wi, wo) times that, linear in the model's colours: the fit is
+//! [`super::fit`]'s solver (colours by least squares, the shape parameter searched) on the image's values
+//! with the output transform inverted. Pixels are left out where the answer is not the shading of that
+//! point alone: within a pixel of another object or of a shadow's edge (MSAA mixes them, and a shadow map
+//! places its edges apart from a ray's), and where a channel is clipped (0 or 255 stands for a range), or
+//! within [`CLIP_MARGIN`] pixels of a channel at [`CLIP_LEVEL`] or above (JPEG rings a clipped highlight down
+//! to 250 or so, and such a level stands for far less than the highlight's radiance).
+
+use image::RgbImage;
+
+use super::fit::{fit_values, Fit};
+use crate::brdf::Brdf;
+use crate::error::{Error, Result};
+use crate::output::level;
+use crate::reference::{surface_points, SurfacePoint};
+use crate::render::{ProbeCase, Renderer};
+use crate::scene::{Encoding, Scene, Tonemap, View};
+
+/// The level from which a channel counts as clipped (with its neighbours, see the module's notes).
+pub const CLIP_LEVEL: u8 = 250;
+/// How far around a clipped pixel others are left out.
+pub const CLIP_MARGIN: i64 = 2;
+
+/// A model fitted to an image.
+#[derive(Clone, Debug)]
+pub struct ImageFit {
+    pub fit: Fit,
+    /// The pixels fitted.
+    pub pixels: usize,
+    /// The root mean square over those pixels and their channels of (the fitted model's render - the
+    /// image), in 8-bit levels after the output transform (from the middle of the range a level stands for).
+    pub residual_levels: f64,
+    /// The same of the scene's own material.
+    pub scene_levels: f64,
+    /// Each parameter of the fitted model with its standard error per component: the Gauss-Newton estimate
+    /// sqrt(s^2 (J^T J)^-1) at the fit, J the change of the fitted pixels' linear values with each parameter
+    /// and s^2 the residuals' variance; None for a parameter the pixels do not determine.
+    pub parameters: Vec<Determined>,
+}
+
+/// A parameter's value and how well it is determined.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Determined {
+    pub name: &'static str,
+    pub values: Vec<f32>,
+    pub errors: Vec<Option<f64>>,
+}
+
+/// The pixels of an object that a fit reads, and what the image says of each.
+struct Observed {
+    points: Vec<SurfacePoint>,
+    /// The image's linear radiance, the output transform inverted.
+    wanted: Vec<[f64; 3]>,
+    /// The image's levels.
+    levels: Vec<[u8; 3]>,
+}
+
+/// Fits `model` (one of [`super::fit::FIT_MODELS`]) to object `object`'s pixels in `image`, an 8-bit image
+/// of `scene` as rendered (radiance, point lights); `progress` is told how many models the solver has tried.
+/// `None` when the model is not one of them.
+///
+/// # Errors
+/// `Error::Input` naming the image when it is not the scene's size or leaves no pixel of the object to fit;
+/// `Error::Scene` for a scene a fit cannot read (an environment's light, a term view, no such object); what
+/// the reference and the probe pass return.
+pub fn fit_image(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    image: &RgbImage,
+    image_path: &std::path::Path,
+    object: usize,
+    model: &str,
+    progress: impl FnMut(usize),
+) -> Result<Option<ImageFit>> {
+    let scene_error = |message: String| Error::Scene { file: scene.source.clone(), message };
+    let Some(target) = scene.objects.get(object) else {
+        return Err(scene_error(format!(
+            "--object {object}: the scene has {} objects (numbered from 0)",
+            scene.objects.len()
+        )));
+    };
+    if scene.environment.is_some() {
+        return Err(scene_error("a fit to an image reads point lights alone; this scene has an [environment]".into()));
+    }
+    if scene.image.view != View::Radiance {
+        return Err(scene_error(format!(
+            "image.view = \"{}\": a fit to an image reads the radiance view",
+            scene.image.view.name()
+        )));
+    }
+    let size = (scene.image.width, scene.image.height);
+    if image.dimensions() != size {
+        return Err(Error::Input {
+            path: image_path.to_path_buf(),
+            message: format!(
+                "{} x {} pixels, and the scene renders {} x {}",
+                image.width(),
+                image.height(),
+                size.0,
+                size.1
+            ),
+        });
+    }
+    let observed = observe(scene, image, object)?;
+    if observed.points.len() < 16 {
+        return Err(Error::Input {
+            path: image_path.to_path_buf(),
+            message: format!(
+                "only {} pixels of object {object} are unclipped and away from edges and shadows' edges: too few \
+                 to fit",
+                observed.points.len()
+            ),
+        });
+    }
+    let weights = vec![1.0; observed.points.len()];
+    let values = |brdfs: &[Brdf]| rendered_values(renderer, brdfs, &observed.points);
+    let Some(fit) = fit_values(&target.brdf, model, &observed.wanted, &weights, values, progress)? else {
+        return Ok(None);
+    };
+    let fitted = rendered_values(renderer, std::slice::from_ref(&fit.brdf), &observed.points)?.remove(0);
+    let residual_levels = residual_levels(&fitted, &observed.levels, scene);
+    let own = rendered_values(renderer, std::slice::from_ref(&target.brdf), &observed.points)?.remove(0);
+    let scene_levels = self::residual_levels(&own, &observed.levels, scene);
+    let parameters = determination(renderer, &fit.brdf, &observed, &fitted)?;
+    Ok(Some(ImageFit { pixels: observed.points.len(), residual_levels, scene_levels, parameters, fit }))
+}
+
+/// The object's pixels the fit reads (see the module's notes), with the image's values.
+fn observe(scene: &Scene, image: &RgbImage, object: usize) -> Result<Observed> {
+    let points = surface_points(scene)?;
+    let (w, h) = (scene.image.width as i64, scene.image.height as i64);
+    let at = |x: i64, y: i64| points[(y * w + x) as usize].as_ref();
+    // What the renders agree on at a pixel: its object, and which lights reach it.
+    let signature =
+        |p: Option<&SurfacePoint>| p.map(|p| (p.object, p.lights.iter().map(|l| l.visible).collect::<Vec<_>>()));
+    let clipped = |x: i64, y: i64| image.get_pixel(x as u32, y as u32).0.iter().any(|&l| l >= CLIP_LEVEL);
+    let near_clipped = |x: i64, y: i64| {
+        (-CLIP_MARGIN..=CLIP_MARGIN).any(|dy| {
+            (-CLIP_MARGIN..=CLIP_MARGIN).any(|dx| {
+                let (nx, ny) = (x + dx, y + dy);
+                (0..w).contains(&nx) && (0..h).contains(&ny) && clipped(nx, ny)
+            })
+        })
+    };
+    let mut observed = Observed { points: Vec::new(), wanted: Vec::new(), levels: Vec::new() };
+    for y in 0..h {
+        for x in 0..w {
+            let Some(point) = at(x, y) else { continue };
+            if point.object != object {
+                continue;
+            }
+            let here = signature(Some(point));
+            let inside = (-1..=1).all(|dy| {
+                (-1..=1).all(|dx| {
+                    let (nx, ny) = (x + dx, y + dy);
+                    (0..w).contains(&nx) && (0..h).contains(&ny) && signature(at(nx, ny)) == here
+                })
+            });
+            let levels = image.get_pixel(x as u32, y as u32).0;
+            if !inside || levels.contains(&0) || near_clipped(x, y) {
+                continue;
+            }
+            observed.wanted.push(levels.map(|l| linear_of(l, scene)));
+            observed.levels.push(levels);
+            observed.points.push(point.clone());
+        }
+    }
+    Ok(observed)
+}
+
+/// The linear radiance an 8-bit level stands for: the middle of its range, back through the encoding, the
+/// tone curve and the exposure (each invertible below the clip).
+fn linear_of(level: u8, scene: &Scene) -> f64 {
+    let settings = &scene.image;
+    let encoded = f64::from(level) / 255.0;
+    let toned = match settings.encoding {
+        // Truncated: the level stands for [l, l + 1) / 255.
+        Encoding::Linear => encoded + 0.5 / 255.0,
+        // Rounded: for [l - 1/2, l + 1/2] / 255 of the encoded value; IEC 61966-2-1 inverted.
+        Encoding::Srgb => {
+            if encoded <= 0.040_45 {
+                encoded / 12.92
+            } else {
+                ((encoded + 0.055) / 1.055).powf(2.4)
+            }
+        }
+    };
+    let exposed = match settings.tonemap {
+        Tonemap::Clamp => toned,
+        Tonemap::Reinhard => toned / (1.0 - toned),
+        Tonemap::Aces => {
+            // y = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14): the positive root of
+            // (2.43 y - 2.51) x^2 + (0.59 y - 0.03) x + 0.14 y = 0.
+            let (a, b, c) = (2.43 * toned - 2.51, 0.59 * toned - 0.03, 0.14 * toned);
+            (-b - (b * b - 4.0 * a * c).max(0.0).sqrt()) / (2.0 * a)
+        }
+    };
+    exposed / f64::from(settings.exposure)
+}
+
+/// Each brdf's render at the points: the sum over visible lights of f_r (from the probe pass) times the
+/// light's radiance times cosine.
+fn rendered_values(renderer: &mut Renderer, brdfs: &[Brdf], points: &[SurfacePoint]) -> Result<Vec<Vec<[f64; 3]>>> {
+    let mut cases = Vec::new();
+    let mut owners = Vec::new();
+    for (b, brdf) in brdfs.iter().enumerate() {
+        for (p, point) in points.iter().enumerate() {
+            for light in point.lights.iter().filter(|l| l.visible) {
+                cases.push(ProbeCase { brdf: brdf.clone(), n: point.n, wi: light.wi, wo: point.wo });
+                owners.push((b, p, light.irradiance));
+            }
+        }
+    }
+    let f = renderer.probe_brdfs(&cases)?;
+    let mut values = vec![vec![[0.0f64; 3]; points.len()]; brdfs.len()];
+    for (f, (b, p, irradiance)) in f.into_iter().zip(owners) {
+        let radiance = (f * irradiance).as_dvec3();
+        for c in 0..3 {
+            values[b][p][c] += radiance[c];
+        }
+    }
+    Ok(values)
+}
+
+/// The root mean square of the fitted render's levels (unrounded) against the middle of the image's levels.
+fn residual_levels(fitted: &[[f64; 3]], levels: &[[u8; 3]], scene: &Scene) -> f64 {
+    let middle = match scene.image.encoding {
+        Encoding::Linear => 0.5,
+        Encoding::Srgb => 0.0,
+    };
+    let sum: f64 = fitted
+        .iter()
+        .zip(levels)
+        .flat_map(|(f, l)| {
+            (0..3).map(move |c| f64::from(level(f[c] as f32, &scene.image)) - (f64::from(l[c]) + middle))
+        })
+        .map(|d| d * d)
+        .sum();
+    (sum / (3 * fitted.len()) as f64).sqrt()
+}
+
+/// Each parameter of `brdf` with its standard error (see [`ImageFit::parameters`]); the derivatives by
+/// central differences of the probe's renders.
+fn determination(
+    renderer: &mut Renderer,
+    brdf: &Brdf,
+    observed: &Observed,
+    fitted: &[[f64; 3]],
+) -> Result<Vec<Determined>> {
+    let parameters = super::fit::parameters(brdf);
+    // One scalar per parameter component: (parameter, component, step).
+    let scalars: Vec<(usize, usize, f32)> = parameters
+        .iter()
+        .enumerate()
+        .flat_map(|(p, (_, values))| values.iter().enumerate().map(move |(c, &v)| (p, c, 1e-3 * v.abs().max(0.05))))
+        .collect();
+    let mut perturbed = Vec::new();
+    for &(p, c, step) in &scalars {
+        let value = parameters[p].1[c];
+        perturbed.push(super::fit::with_parameter(brdf, parameters[p].0, c, value + step));
+        perturbed.push(super::fit::with_parameter(brdf, parameters[p].0, c, value - step));
+    }
+    let values = rendered_values(renderer, &perturbed, &observed.points)?;
+    // J: one column per scalar, one row per pixel and channel.
+    let columns: Vec<Vec<f64>> = scalars
+        .iter()
+        .enumerate()
+        .map(|(k, &(_, _, step))| {
+            let (up, down) = (&values[2 * k], &values[2 * k + 1]);
+            up.iter()
+                .zip(down)
+                .flat_map(|(u, d)| (0..3).map(move |c| (u[c] - d[c]) / (2.0 * f64::from(step))))
+                .collect()
+        })
+        .collect();
+    let residuals: f64 =
+        fitted.iter().zip(&observed.wanted).flat_map(|(f, w)| (0..3).map(move |c| (f[c] - w[c]).powi(2))).sum();
+    let freedom = (3 * fitted.len()).saturating_sub(scalars.len()).max(1) as f64;
+    let variance = residuals / freedom;
+    let errors = standard_errors(&columns, variance);
+    let mut determined: Vec<Determined> = parameters
+        .iter()
+        .map(|(name, values)| Determined { name, values: values.clone(), errors: vec![None; values.len()] })
+        .collect();
+    for (&(p, c, _), error) in scalars.iter().zip(errors) {
+        determined[p].errors[c] = error;
+    }
+    Ok(determined)
+}
+
+/// sqrt(variance (J^T J)^-1) on the diagonal, J given by its columns; None for a column the others (or
+/// nothing) account for: the matrix is inverted over the columns that keep it well conditioned.
+fn standard_errors(columns: &[Vec<f64>], variance: f64) -> Vec<Option<f64>> {
+    let n = columns.len();
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let gram: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| dot(&columns[i], &columns[j])).collect()).collect();
+    // Gauss-Jordan with the columns as pivots in turn; a pivot below 1e-10 of its diagonal is a parameter
+    // the pixels do not determine (its column lies in the others' span): left out.
+    let mut a: Vec<Vec<f64>> = gram.clone();
+    let mut inverse: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| f64::from(u8::from(i == j))).collect()).collect();
+    let mut kept = vec![false; n];
+    for k in 0..n {
+        if a[k][k].abs() <= 1e-10 * gram[k][k].abs().max(f64::MIN_POSITIVE) || gram[k][k] == 0.0 {
+            continue;
+        }
+        kept[k] = true;
+        let pivot = a[k][k];
+        for j in 0..n {
+            a[k][j] /= pivot;
+            inverse[k][j] /= pivot;
+        }
+        for i in 0..n {
+            if i != k {
+                let factor = a[i][k];
+                for j in 0..n {
+                    a[i][j] -= factor * a[k][j];
+                    inverse[i][j] -= factor * inverse[k][j];
+                }
+            }
+        }
+    }
+    // The dropped columns' rows and columns must not feed the kept ones: invert again over the kept alone.
+    if kept.iter().any(|k| !k) {
+        let indices: Vec<usize> = (0..n).filter(|&k| kept[k]).collect();
+        let sub: Vec<Vec<f64>> = indices.iter().map(|&k| columns[k].clone()).collect();
+        let errors = standard_errors(&sub, variance);
+        let mut all = vec![None; n];
+        for (&k, e) in indices.iter().zip(errors) {
+            all[k] = e;
+        }
+        return all;
+    }
+    (0..n).map(|k| Some((variance * inverse[k][k]).max(0.0).sqrt())).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn standard_errors_of_a_line_by_hand() {
+        // y = a + b x at x = 0, 1, 2, 3 with residual variance 1: (J^T J)^-1 = [[7, -3], [-3, 2]] / 10.
+        let columns = vec![vec![1.0, 1.0, 1.0, 1.0], vec![0.0, 1.0, 2.0, 3.0]];
+        let errors = standard_errors(&columns, 1.0);
+        assert!((errors[0].unwrap() - 0.7f64.sqrt()).abs() < 1e-12);
+        assert!((errors[1].unwrap() - 0.2f64.sqrt()).abs() < 1e-12);
+        // A column that repeats another is not determined; the other is, alone.
+        let errors = standard_errors(&[vec![1.0, 2.0], vec![2.0, 4.0]], 1.0);
+        assert_eq!(errors[1], None);
+        assert!((errors[0].unwrap() - 0.2f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn levels_invert_the_output_transform() {
+        let mut scene = Scene::parse("", std::path::Path::new("t.toml"), &[]).unwrap();
+        for (tonemap, encoding) in [
+            (Tonemap::Clamp, Encoding::Linear),
+            (Tonemap::Reinhard, Encoding::Srgb),
+            (Tonemap::Aces, Encoding::Srgb),
+            (Tonemap::Aces, Encoding::Linear),
+        ] {
+            scene.image.tonemap = tonemap;
+            scene.image.encoding = encoding;
+            scene.image.exposure = 1.5;
+            for l in [1u8, 17, 128, 254] {
+                let back = level(linear_of(l, &scene) as f32, &scene.image);
+                let expected = f32::from(l) + if encoding == Encoding::Linear { 0.5 } else { 0.0 };
+                assert!((back - expected).abs() < 1e-3, "{tonemap:?} {encoding:?} {l}: {back}");
+            }
+        }
+    }
+}
