@@ -253,7 +253,7 @@ impl PyRenderer {
     /// Checks an image (a (height, width, 3) uint8 array, or a PNG or JPEG path) against a scene (one of the
     /// practical's images by name, a scene file, or a Scene) rendered at the image's size, as `vk-render
     /// check` does. Returns a dict: "matches", "verdict", "mistakes", "statistics", "regions",
-    /// "tells_apart".
+    /// "tells_apart", "wrong_parameters".
     #[pyo3(signature = (image, scene, *, set = None))]
     fn check<'py>(
         &self,
@@ -322,6 +322,24 @@ impl PyRenderer {
             format!("{name} {}", sets.join(" ")).trim_end().to_string()
         });
         report.set_item("tells_apart", tells_apart)?;
+        let wrong_parameters = PyList::empty(py);
+        for wrong in &checked.wrong_parameters {
+            let entry = PyDict::new(py);
+            entry.set_item("object", wrong.object)?;
+            entry.set_item("material", &scene.objects[wrong.object].material)?;
+            entry.set_item("model", scene.objects[wrong.object].brdf.name())?;
+            let (fitted, given) = (PyDict::new(py), PyDict::new(py));
+            for (name, values, scene_values) in &wrong.differing {
+                fitted.set_item(*name, values.clone())?;
+                given.set_item(*name, scene_values.clone())?;
+            }
+            entry.set_item("fitted", fitted)?;
+            entry.set_item("scene", given)?;
+            entry.set_item("residual_levels", wrong.fitted.residual_levels)?;
+            entry.set_item("scene_levels", wrong.fitted.scene_levels)?;
+            wrong_parameters.append(entry)?;
+        }
+        report.set_item("wrong_parameters", wrong_parameters)?;
         report.set_item("exact", image_array(py, checked.exact().dimensions(), checked.exact().as_raw().clone())?)?;
         Ok(report)
     }

@@ -5,7 +5,7 @@ import re
 import numpy as np
 
 import vk_render
-from conftest import FIG1, cli
+from conftest import FIG1, SCENES, cli
 
 
 def test_the_exact_image_matches_and_a_mistake_is_named(renderer, tmp_path):
@@ -32,3 +32,16 @@ def test_the_exact_image_matches_and_a_mistake_is_named(renderer, tmp_path):
                          printed, re.MULTILINE)
     assert len(regions) == len(report["regions"])
     assert [f"{r['rms']:.2f}" for r in report["regions"]] == [r[2] for r in regions]
+
+
+def test_a_wrong_parameter_is_named(renderer):
+    """No mistake explains a sphere of the wrong sigma: check names the parameter, as `vk-render check`."""
+    scene = SCENES / "fig2-oren-nayar-sigma-0.6.toml"
+    mine = renderer.render(scene, width=300, height=200, set={"material.matte.sigma": 0.35})
+    report = vk_render.check(mine, scene, renderer=renderer)
+    assert report["verdict"] == "unexplained"
+    [wrong] = report["wrong_parameters"]
+    assert (wrong["object"], wrong["material"], wrong["model"]) == (0, "matte", "oren-nayar")
+    assert wrong["scene"] == {"sigma": [0.6000000238418579]}
+    assert abs(wrong["fitted"]["sigma"][0] - 0.35) < 0.02
+    assert wrong["residual_levels"] < 1.0 < wrong["scene_levels"]

@@ -136,7 +136,9 @@ def check(image, scene, *, set=None, renderer=None):
     by name ("fig2-oren-nayar-sigma-0.4"), a scene file or a Scene. Returns a dict: "matches" (bool),
     "verdict" ("matches", "mistake", "tie" or "unexplained"), "mistakes" (each with its name, explanation,
     should_be and looks_like), "statistics" (rms, mean, p99 and over, in 8-bit levels, as check prints),
-    "regions" (the same per object and part), "tells_apart" (for a tie, the scene to render next) and
-    "exact" (the exact image).
+    "regions" (the same per object and part), "tells_apart" (for a tie, the scene to render next),
+    "wrong_parameters" (when no mistake explains it: each object whose own model explains its pixels with
+    other parameters, with its "object", "material", "model", the "fitted" and the "scene" values of the
+    parameters that differ, and the residuals in levels of both) and "exact" (the exact image).
     """
     return (renderer or default_renderer()).check(image, scene, set=set)

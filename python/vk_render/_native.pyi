@@ -58,6 +58,15 @@ class CheckMistake(TypedDict):
     should_be: str
     looks_like: str
 
+class CheckWrongParameters(TypedDict):
+    object: int
+    material: str
+    model: str
+    fitted: dict[str, list[float]]
+    scene: dict[str, list[float]]
+    residual_levels: float
+    scene_levels: float
+
 class CheckReport(TypedDict):
     matches: bool
     verdict: str
@@ -65,6 +74,7 @@ class CheckReport(TypedDict):
     statistics: CheckStatistics
     regions: list[dict[str, Any]]
     tells_apart: Optional[str]
+    wrong_parameters: list[CheckWrongParameters]
     exact: npt.NDArray[np.uint8]
 
 class Renderer:
