@@ -208,6 +208,14 @@ fn a_measured_copy_renders_as_its_model() {
         .map(|((a, b), _)| (*a - *b).abs().max_element())
         .fold(0.0, f32::max);
     assert!(worst <= 0.01 * peak, "largest linear difference {worst} against a peak of {peak}");
+    // The f_r view (term views read brdf_eval as the radiance does).
+    let view = |scene: &Scene| {
+        let mut viewed = scene.clone();
+        viewed.image.view = vk_render::scene::View::Brdf;
+        render(&viewed).to_rgb8(&viewed.image)
+    };
+    let c = compare_renders(&model, &view(&copy), &view(&model));
+    assert!(c.mean_abs <= 0.05 && c.p99 <= 1, "the f_r view: {c}");
 }
 
 #[test]

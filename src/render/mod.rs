@@ -451,12 +451,12 @@ impl Renderer {
     }
 
     /// Runs `work` with the probe pass, built on first use and kept, and the measured tables.
-    fn with_probe<T>(&mut self, work: impl FnOnce(&ProbePass, &MeasuredTables) -> Result<T>) -> Result<T> {
-        let probe = match self.probe.take() {
+    fn with_probe<T>(&mut self, work: impl FnOnce(&mut ProbePass, &MeasuredTables) -> Result<T>) -> Result<T> {
+        let mut probe = match self.probe.take() {
             Some(probe) => probe,
             None => ProbePass::new(&self.device, &self.compiler)?,
         };
-        let results = work(&probe, &self.measured);
+        let results = work(&mut probe, &self.measured);
         self.probe = Some(probe);
         let results = results?;
         self.check_validation()?;

@@ -136,7 +136,8 @@ impl Device {
 }
 
 impl Device {
-    /// Creates a compute pipeline running `main` of `shader`.
+    /// Creates a compute pipeline running `main` of `shader`, its specialization constants set: entry i of
+    /// `constants` is the value of `constant_id = i`.
     ///
     /// # Errors
     /// `Error::Vulkan` if the driver refuses the pipeline.
@@ -144,12 +145,19 @@ impl Device {
         self: &Arc<Self>,
         shader: &ShaderModule,
         layout: &Arc<PipelineLayout>,
+        constants: &[u32],
         name: &str,
     ) -> Result<Pipeline> {
+        let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len() as u32)
+            .map(|id| vk::SpecializationMapEntry { constant_id: id, offset: 4 * id, size: 4 })
+            .collect();
+        let constant_bytes: Vec<u8> = constants.iter().flat_map(|v| v.to_ne_bytes()).collect();
+        let specialization = vk::SpecializationInfo::default().map_entries(&entries).data(&constant_bytes);
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(shader.raw)
-            .name(c"main");
+            .name(c"main")
+            .specialization_info(&specialization);
         let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.raw);
         // SAFETY: the module and layout are alive for the call.
         let raw = unsafe { self.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
