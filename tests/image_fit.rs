@@ -133,3 +133,27 @@ fn check_names_a_wrong_parameter() {
     assert_eq!((*name, given.as_slice()), ("sigma", [0.6f32].as_slice()));
     assert!(within(fitted[0], 0.35, 0.02), "{fitted:?}");
 }
+
+/// Bad input to `fit --image`: one line naming what is wrong, exit status 1.
+#[test]
+fn bad_image_fits_are_refused_in_one_line() {
+    let dir = temp_dir();
+    let fig2 = root().join("assets/scenes/fig2-oren-nayar-sigma-0.4.toml");
+    let small = dir.path().join("small.png");
+    image::RgbImage::new(30, 20).save(&small).unwrap();
+    let studio = root().join("assets/environment/golden-bunny-studio.toml");
+    let (fig2, small_path, studio) = (fig2.to_str().unwrap(), small.to_str().unwrap(), studio.to_str().unwrap());
+    let cases: [(&[&str], &str); 3] = [
+        (&["--image", small_path, "--scene", fig2, "--object", "0"], "30 x 20 pixels, and the scene renders 600 x 400"),
+        (&["--image", small_path, "--scene", fig2, "--object", "7"], "--object 7: the scene has 2 objects"),
+        (&["--image", small_path, "--scene", studio, "--object", "0"], "reads point lights alone"),
+    ];
+    for (args, needle) in cases {
+        let mut full = vec!["fit", "--to", "oren-nayar"];
+        full.extend_from_slice(args);
+        let output = vk_render(&full);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{full:?}: {stderr}");
+        assert!(stderr.trim_end().lines().count() == 1 && stderr.contains(needle), "{full:?}: {stderr}");
+    }
+}
