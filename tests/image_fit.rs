@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use glam::Vec3;
 use image::RgbImage;
-use vk_render::analysis::image_fit::{fit_image, ImageFit};
+use vk_render::analysis::image_fit::{ImageFit, SceneImage};
 use vk_render::brdf::Brdf;
 use vk_render::check::report::check_image;
 use vk_render::check::Verdict;
@@ -27,7 +27,9 @@ fn fits(scene: &Scene, object: usize, model: &str) -> Vec<(&'static str, ImageFi
     [("PNG", png.clone()), ("JPEG 75", jpeg(&png))]
         .into_iter()
         .map(|(kind, image)| {
-            let fitted = fit_image(&mut renderer(), scene, &image, "image".as_ref(), object, model, |_| {})
+            let fitted = SceneImage::new(scene, &image, "image".as_ref())
+                .expect("an image of the scene")
+                .fit(&mut renderer(), object, model, |_| {})
                 .expect("fit")
                 .expect("a model");
             eprintln!("{kind}: {:?}, residual {:.2} levels", fitted.fit.brdf, fitted.residual_levels);

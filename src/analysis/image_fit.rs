@@ -60,79 +60,105 @@ struct Observed {
     levels: Vec<[u8; 3]>,
 }
 
-/// Fits `model` (one of [`super::fit::FIT_MODELS`]) to object `object`'s pixels in `image`, an 8-bit image
-/// of `scene` as rendered (radiance, point lights); `progress` is told how many models the solver has tried.
-/// `None` when the model is not one of them.
+/// An 8-bit image of a scene as rendered (radiance, point lights), ready to fit: checked against the scene,
+/// with what the reference sees at each pixel's centre (traced once for every object and model fitted).
+pub struct SceneImage<'a> {
+    scene: &'a Scene,
+    image: &'a RgbImage,
+    path: &'a std::path::Path,
+    points: Vec<Option<SurfacePoint>>,
+}
+
+impl<'a> SceneImage<'a> {
+    /// `image`, read from `path` (named in errors), as an image of `scene`.
+    ///
+    /// # Errors
+    /// `Error::Input` naming the image when it is not the scene's size; `Error::Scene` for a scene a fit cannot
+    /// read (an environment's light, a term view); what the reference returns.
+    pub fn new(scene: &'a Scene, image: &'a RgbImage, path: &'a std::path::Path) -> Result<Self> {
+        let scene_error = |message: String| Error::Scene { file: scene.source.clone(), message };
+        if scene.environment.is_some() {
+            return Err(scene_error(
+                "a fit to an image reads point lights alone; this scene has an [environment]".into(),
+            ));
+        }
+        if scene.image.view != View::Radiance {
+            return Err(scene_error(format!(
+                "image.view = \"{}\": a fit to an image reads the radiance view",
+                scene.image.view.name()
+            )));
+        }
+        let size = (scene.image.width, scene.image.height);
+        if image.dimensions() != size {
+            return Err(Error::Input {
+                path: path.to_path_buf(),
+                message: format!(
+                    "{} x {} pixels, and the scene renders {} x {}",
+                    image.width(),
+                    image.height(),
+                    size.0,
+                    size.1
+                ),
+            });
+        }
+        Ok(Self { scene, image, path, points: surface_points(scene)? })
+    }
+
+    /// Fits `model` (one of [`super::fit::FIT_MODELS`]) to object `object`'s pixels; `progress` is told how
+    /// many models the solver has tried. `None` when the model is not one of them.
+    ///
+    /// # Errors
+    /// `Error::Scene` for an object the scene lacks; `Error::Input` naming the image when it leaves too few
+    /// pixels of the object to fit; what the probe pass returns.
+    pub fn fit(
+        &self,
+        renderer: &mut Renderer,
+        object: usize,
+        model: &str,
+        progress: impl FnMut(usize),
+    ) -> Result<Option<ImageFit>> {
+        let scene = self.scene;
+        let target = object_of(scene, object)?;
+        let observed = observe(scene, &self.points, self.image, object);
+        if observed.points.len() < 16 {
+            return Err(Error::Input {
+                path: self.path.to_path_buf(),
+                message: format!(
+                    "only {} pixels of object {object} are unclipped and away from edges and shadows' edges: too \
+                     few to fit",
+                    observed.points.len()
+                ),
+            });
+        }
+        let weights = vec![1.0; observed.points.len()];
+        let values = |brdfs: &[Brdf]| rendered_values(renderer, brdfs, &observed.points);
+        let Some(fit) = fit_values(&target.brdf, model, &observed.wanted, &weights, values, progress)? else {
+            return Ok(None);
+        };
+        // The fitted model's render and the scene's own material's, in one probe.
+        let mut renders =
+            rendered_values(renderer, &[fit.brdf.clone(), target.brdf.clone()], &observed.points)?.into_iter();
+        let (fitted, own) = (renders.next().unwrap_or_default(), renders.next().unwrap_or_default());
+        let residual_levels = residual_levels(&fitted, &observed.levels, scene);
+        let scene_levels = self::residual_levels(&own, &observed.levels, scene);
+        let parameters = determination(renderer, &fit.brdf, &observed, &fitted)?;
+        Ok(Some(ImageFit { pixels: observed.points.len(), residual_levels, scene_levels, parameters, fit }))
+    }
+}
+
+/// Object `object` of `scene`.
 ///
 /// # Errors
-/// `Error::Input` naming the image when it is not the scene's size or leaves no pixel of the object to fit;
-/// `Error::Scene` for a scene a fit cannot read (an environment's light, a term view, no such object); what
-/// the reference and the probe pass return.
-pub fn fit_image(
-    renderer: &mut Renderer,
-    scene: &Scene,
-    image: &RgbImage,
-    image_path: &std::path::Path,
-    object: usize,
-    model: &str,
-    progress: impl FnMut(usize),
-) -> Result<Option<ImageFit>> {
-    let scene_error = |message: String| Error::Scene { file: scene.source.clone(), message };
-    let Some(target) = scene.objects.get(object) else {
-        return Err(scene_error(format!(
-            "--object {object}: the scene has {} objects (numbered from 0)",
-            scene.objects.len()
-        )));
-    };
-    if scene.environment.is_some() {
-        return Err(scene_error("a fit to an image reads point lights alone; this scene has an [environment]".into()));
-    }
-    if scene.image.view != View::Radiance {
-        return Err(scene_error(format!(
-            "image.view = \"{}\": a fit to an image reads the radiance view",
-            scene.image.view.name()
-        )));
-    }
-    let size = (scene.image.width, scene.image.height);
-    if image.dimensions() != size {
-        return Err(Error::Input {
-            path: image_path.to_path_buf(),
-            message: format!(
-                "{} x {} pixels, and the scene renders {} x {}",
-                image.width(),
-                image.height(),
-                size.0,
-                size.1
-            ),
-        });
-    }
-    let observed = observe(scene, image, object)?;
-    if observed.points.len() < 16 {
-        return Err(Error::Input {
-            path: image_path.to_path_buf(),
-            message: format!(
-                "only {} pixels of object {object} are unclipped and away from edges and shadows' edges: too few \
-                 to fit",
-                observed.points.len()
-            ),
-        });
-    }
-    let weights = vec![1.0; observed.points.len()];
-    let values = |brdfs: &[Brdf]| rendered_values(renderer, brdfs, &observed.points);
-    let Some(fit) = fit_values(&target.brdf, model, &observed.wanted, &weights, values, progress)? else {
-        return Ok(None);
-    };
-    let fitted = rendered_values(renderer, std::slice::from_ref(&fit.brdf), &observed.points)?.remove(0);
-    let residual_levels = residual_levels(&fitted, &observed.levels, scene);
-    let own = rendered_values(renderer, std::slice::from_ref(&target.brdf), &observed.points)?.remove(0);
-    let scene_levels = self::residual_levels(&own, &observed.levels, scene);
-    let parameters = determination(renderer, &fit.brdf, &observed, &fitted)?;
-    Ok(Some(ImageFit { pixels: observed.points.len(), residual_levels, scene_levels, parameters, fit }))
+/// `Error::Scene` naming the number when the scene has no such object.
+pub fn object_of(scene: &Scene, object: usize) -> Result<&crate::scene::Object> {
+    scene.objects.get(object).ok_or_else(|| Error::Scene {
+        file: scene.source.clone(),
+        message: format!("--object {object}: the scene has {} objects (numbered from 0)", scene.objects.len()),
+    })
 }
 
 /// The object's pixels the fit reads (see the module's notes), with the image's values.
-fn observe(scene: &Scene, image: &RgbImage, object: usize) -> Result<Observed> {
-    let points = surface_points(scene)?;
+fn observe(scene: &Scene, points: &[Option<SurfacePoint>], image: &RgbImage, object: usize) -> Observed {
     let (w, h) = (scene.image.width as i64, scene.image.height as i64);
     let at = |x: i64, y: i64| points[(y * w + x) as usize].as_ref();
     // What the renders agree on at a pixel: its object, and which lights reach it.
@@ -170,7 +196,7 @@ fn observe(scene: &Scene, image: &RgbImage, object: usize) -> Result<Observed> {
             observed.points.push(point.clone());
         }
     }
-    Ok(observed)
+    observed
 }
 
 /// The linear radiance an 8-bit level stands for: the middle of its range, back through the encoding, the

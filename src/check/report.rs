@@ -9,7 +9,7 @@ use super::catalogue::{Mistake, ShowsOn, CATALOGUE};
 use super::MATCH_RMS;
 use super::{diagnose, regions, render_candidates, scene_that_tells_apart, Candidate, Diagnosis, Region, Verdict};
 use crate::analysis::fit::parameters;
-use crate::analysis::image_fit::{fit_image, ImageFit};
+use crate::analysis::image_fit::{ImageFit, SceneImage};
 use crate::brdf::Brdf;
 use crate::error::{Error, Result};
 use crate::figures::practical_image;
@@ -52,11 +52,16 @@ const EXPLAINS: f64 = 0.5;
 /// What rendering and the reference return, but a fit's refusal of the scene or the image.
 fn wrong_parameters(renderer: &mut Renderer, mine: &RgbImage, scene: &Scene) -> Result<Vec<WrongParameters>> {
     let mut found = Vec::new();
+    let image = match SceneImage::new(scene, mine, Path::new("image")) {
+        Ok(image) => image,
+        Err(Error::Scene { .. } | Error::Input { .. }) => return Ok(found),
+        Err(other) => return Err(other),
+    };
     for (object, target) in scene.objects.iter().enumerate() {
         if matches!(target.brdf, Brdf::Measured(_)) {
             continue;
         }
-        let fitted = match fit_image(renderer, scene, mine, Path::new("image"), object, target.brdf.name(), |_| {}) {
+        let fitted = match image.fit(renderer, object, target.brdf.name(), |_| {}) {
             Ok(Some(fitted)) => fitted,
             Ok(None) | Err(Error::Scene { .. } | Error::Input { .. }) => continue,
             Err(other) => return Err(other),

@@ -10,7 +10,7 @@ use super::{progress, SetArgs};
 use vk_render::analysis::fit::{
     fit, fit_measurement, parameters, Fit, DEFAULT_THETA_I, FIT_MODELS, FIT_STEPS, NGAN_MAX_THETA,
 };
-use vk_render::analysis::image_fit::{fit_image, Determined};
+use vk_render::analysis::image_fit::{object_of, Determined, SceneImage};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::{describe, rgb, select_materials, Channel, NamedBrdf};
 use vk_render::brdf::{Brdf, Measured};
@@ -347,18 +347,18 @@ fn run_image(
         );
     }
     let scene = Scene::load(scene_path, &args.set.overrides)?;
+    let target = object_of(&scene, object)?;
     let image = read_image(image_path)?;
     let mut renderer = Renderer::new(options)?;
+    let image = SceneImage::new(&scene, &image, image_path)?;
     let mut fits = Vec::new();
     for model in models {
         let bar = progress(FIT_STEPS, model);
-        let fitted =
-            fit_image(&mut renderer, &scene, &image, image_path, object, model, |t| bar.set_position(t as u64))?;
+        let fitted = image.fit(&mut renderer, object, model, |t| bar.set_position(t as u64))?;
         bar.finish_and_clear();
         fits.push((*model, fitted.ok_or_else(|| anyhow::anyhow!("--to {model}: not a model"))?));
     }
     fits.sort_by(|a, b| a.1.residual_levels.total_cmp(&b.1.residual_levels));
-    let target = &scene.objects[object];
     for (rank, (model, fitted)) in fits.iter().enumerate() {
         let heading = if fits.len() > 1 { format!("{}. ", rank + 1) } else { String::new() };
         println!(

@@ -229,7 +229,7 @@ pub fn describe(brdf: &Brdf) -> String {
         Brdf::CookTorrance { roughness, metalness, .. } => {
             format!("cook-torrance roughness {roughness:.2} metalness {metalness:.1}")
         }
-        Brdf::Measured(ref table) => crate::analysis::describe(&Brdf::Measured(table.clone())),
+        Brdf::Measured(_) => crate::analysis::describe(brdf),
     }
 }
 

@@ -127,15 +127,6 @@ impl Shader {
     }
 }
 
-/// The indices of `items` grouped by the BRDF id `brdf_of` gives each, groups in increasing id.
-fn by_brdf<T>(items: &[T], brdf_of: impl Fn(&T) -> u32) -> BTreeMap<u32, Vec<usize>> {
-    let mut groups: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
-    for (index, item) in items.iter().enumerate() {
-        groups.entry(brdf_of(item)).or_default().push(index);
-    }
-    groups
-}
-
 impl ProbePass {
     /// Compiles `brdf_probe.comp` and `brdf_albedo.comp`; their pipelines are built when first used.
     ///
@@ -149,46 +140,22 @@ impl ProbePass {
         })
     }
 
-    /// Evaluates every case on the GPU, their measured tables in `tables`: the cases of each BRDF by its
-    /// pipeline.
+    /// Evaluates every case on the GPU, their measured tables in `tables`.
     ///
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
     pub fn run(&mut self, cases: &[ProbeCase], tables: &MeasuredTables) -> Result<Vec<Vec3>> {
-        let mut values = vec![Vec3::ZERO; cases.len()];
-        for (brdf, indices) in by_brdf(cases, |c| brdf_id(&c.brdf)) {
-            for chunk in indices.chunks(self.per_dispatch::<GpuProbeCase>()) {
-                let gpu_cases: Vec<GpuProbeCase> = chunk
-                    .iter()
-                    .map(|&i| {
-                        let c = &cases[i];
-                        GpuProbeCase {
-                            material: GpuMaterial::new(&c.brdf, tables),
-                            n: c.n.extend(0.0).into(),
-                            wi: c.wi.extend(0.0).into(),
-                            wo: c.wo.extend(0.0).into(),
-                        }
-                    })
-                    .collect();
-                let input = self.input(&gpu_cases, "probe cases")?;
-                let pipeline = self.eval.pipeline(&self.device, brdf)?;
-                let bytes = dispatch(&self.device, pipeline, &[&input], tables, chunk.len(), 16)?;
-                for (&i, value) in chunk.iter().zip(read_vec3s(&bytes, 16)) {
-                    values[i] = value;
-                }
-            }
-        }
-        Ok(values)
+        let element = |c: &ProbeCase| GpuProbeCase {
+            material: GpuMaterial::new(&c.brdf, tables),
+            n: c.n.extend(0.0).into(),
+            wi: c.wi.extend(0.0).into(),
+            wo: c.wo.extend(0.0).into(),
+        };
+        let bytes = run_by_brdf(&self.device, &mut self.eval, cases, |c| brdf_id(&c.brdf), element, &[], tables, 16)?;
+        Ok(read_vec3s(&bytes, 16))
     }
 
-    /// How many elements of `T` one dispatch takes: as many as a storage buffer may hold
-    /// (`maxStorageBufferRange`: 128 MiB on lavapipe), at most 2^20 (the memory a dispatch holds at once).
-    fn per_dispatch<T>(&self) -> usize {
-        (self.device.limits.max_storage_buffer_range as usize / std::mem::size_of::<T>()).clamp(1, 1 << 20)
-    }
-
-    /// Integrates f_r cos(theta_i) over every cell on the GPU, the jobs' measured tables in `tables`: the
-    /// cells of each BRDF by its pipeline.
+    /// Integrates f_r cos(theta_i) over every cell on the GPU, the jobs' measured tables in `tables`.
     ///
     /// # Errors
     /// `Error::Vulkan` or `Error::Allocation`.
@@ -202,37 +169,54 @@ impl ProbePass {
             .iter()
             .map(|job| GpuAlbedoJob { material: GpuMaterial::new(&job.brdf, tables), wo: job.wo.extend(0.0).into() })
             .collect();
-        let jobs_buffer = self.input(&gpu_jobs, "albedo jobs")?;
-        let zero = CellIntegral { kronrod: Vec3::ZERO, gauss: Vec3::ZERO };
-        let mut integrals = vec![zero; cells.len()];
-        for (brdf, indices) in by_brdf(cells, |cell| brdf_id(&jobs[cell.job as usize].brdf)) {
-            for chunk in indices.chunks(self.per_dispatch::<GpuAlbedoCell>()) {
-                let gpu_cells: Vec<GpuAlbedoCell> = chunk
-                    .iter()
-                    .map(|&i| {
-                        let cell = &cells[i];
-                        GpuAlbedoCell {
-                            bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1],
-                            job: cell.job,
-                            pad: [0; 3],
-                        }
-                    })
-                    .collect();
-                let cells_buffer = self.input(&gpu_cells, "albedo cells")?;
-                let pipeline = self.albedo.pipeline(&self.device, brdf)?;
-                let bytes = dispatch(&self.device, pipeline, &[&jobs_buffer, &cells_buffer], tables, chunk.len(), 32)?;
-                let estimates = read_vec3s(&bytes, 16);
-                for (&i, pair) in chunk.iter().zip(estimates.chunks_exact(2)) {
-                    integrals[i] = CellIntegral { kronrod: pair[0], gauss: pair[1] };
-                }
+        let jobs_buffer =
+            self.device.create_buffer_with_data(&gpu_jobs, vk::BufferUsageFlags::STORAGE_BUFFER, "albedo jobs")?;
+        let brdf_of = |cell: &AlbedoCell| brdf_id(&jobs[cell.job as usize].brdf);
+        let element = |cell: &AlbedoCell| GpuAlbedoCell {
+            bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1],
+            job: cell.job,
+            pad: [0; 3],
+        };
+        let bytes = run_by_brdf(&self.device, &mut self.albedo, cells, brdf_of, element, &[&jobs_buffer], tables, 32)?;
+        let estimates = read_vec3s(&bytes, 16);
+        Ok(estimates.chunks_exact(2).map(|pair| CellIntegral { kronrod: pair[0], gauss: pair[1] }).collect())
+    }
+}
+
+/// Runs `shader` once per item: the items of each BRDF (`brdf_of`) with that BRDF's pipeline, in chunks of
+/// what one storage buffer may hold (`maxStorageBufferRange`: 128 MiB on lavapipe; at most 2^20 items, the
+/// memory a dispatch holds at once), each chunk's elements (`element`) bound after `inputs`. Returns every
+/// item's `result_size` bytes of results, in the items' order.
+#[allow(clippy::too_many_arguments)] // one dispatch's whole description, for either probe
+fn run_by_brdf<T, G: Copy>(
+    device: &Arc<Device>,
+    shader: &mut Shader,
+    items: &[T],
+    brdf_of: impl Fn(&T) -> u32,
+    element: impl Fn(&T) -> G,
+    inputs: &[&Buffer],
+    tables: &MeasuredTables,
+    result_size: usize,
+) -> Result<Vec<u8>> {
+    let mut groups: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+    for (index, item) in items.iter().enumerate() {
+        groups.entry(brdf_of(item)).or_default().push(index);
+    }
+    let per_dispatch = (device.limits.max_storage_buffer_range as usize / std::mem::size_of::<G>()).clamp(1, 1 << 20);
+    let mut results = vec![0u8; items.len() * result_size];
+    for (brdf, indices) in groups {
+        for chunk in indices.chunks(per_dispatch) {
+            let elements: Vec<G> = chunk.iter().map(|&i| element(&items[i])).collect();
+            let input = device.create_buffer_with_data(&elements, vk::BufferUsageFlags::STORAGE_BUFFER, shader.file)?;
+            let buffers: Vec<&Buffer> = inputs.iter().copied().chain([&input]).collect();
+            let pipeline = shader.pipeline(device, brdf)?;
+            let bytes = dispatch(device, pipeline, &buffers, tables, chunk.len(), result_size)?;
+            for (&i, result) in chunk.iter().zip(bytes.chunks_exact(result_size)) {
+                results[i * result_size..(i + 1) * result_size].copy_from_slice(result);
             }
         }
-        Ok(integrals)
     }
-
-    fn input<T: Copy>(&self, data: &[T], name: &str) -> Result<Buffer> {
-        self.device.create_buffer_with_data(data, vk::BufferUsageFlags::STORAGE_BUFFER, name)
-    }
+    Ok(results)
 }
 
 /// Runs `pipeline` once per element over `inputs` (its first bindings), a results buffer of `result_size`
