@@ -366,6 +366,10 @@ pub fn write_png_rows(
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_compression(png::Compression::Fast);
+        // Paeth on every row rather than Fast's adaptive choice per row: files of the same size (Figure 1:
+        // 50.4 against 50.9 kB; Figure 3's sheet 209 against 211 kB) in three quarters of the time (0.47
+        // against 0.63 ms; 2.1 against 3.0 ms), which a sweep pays twice an image (its tile and its sheet).
+        encoder.set_filter(png::Filter::Paeth);
         let mut writer = encoder.write_header().map_err(encoding)?;
         let mut rows = writer.stream_writer().map_err(encoding)?;
         produce(&mut |band: &image::RgbImage| {

@@ -6,6 +6,7 @@ use image::{Rgb, RgbImage};
 use plotters::style::colors::colormaps::ViridisRGB;
 
 use crate::compare::{compare, Comparison};
+use crate::sheet::paste;
 use crate::text::{draw_text, text_width};
 
 const GAP: u32 = 12;
@@ -73,7 +74,7 @@ pub fn side_by_side(title: &str, panels: &[(String, RgbImage)], scale: Option<u8
     draw_text(&mut sheet, (GAP, GAP / 2), title, LABEL + 2.0, INK);
     for (k, (label, panel)) in panels.iter().enumerate() {
         let x = GAP + k as u32 * (panel_w + GAP);
-        image::imageops::replace(&mut sheet, panel, i64::from(x), i64::from(top));
+        paste(&mut sheet, panel, (x, top));
         let text_x = x + panel_w.saturating_sub(text_width(label, LABEL)) / 2;
         draw_text(&mut sheet, (text_x, top + panel_h + 6), label, LABEL, INK);
     }

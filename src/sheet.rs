@@ -158,7 +158,7 @@ impl SheetLayout {
         let left = self.left();
         for (column, (label, tile)) in tiles.iter().take(self.columns).enumerate() {
             let x = left + column as u32 * (self.tile_w + GAP);
-            image::imageops::replace(&mut band, tile, i64::from(x), 0);
+            paste(&mut band, tile, (x, 0));
             let y = self.tile_h + (STRIP - GLYPH) / 2;
             match &self.labels {
                 Labels::Under => {
@@ -194,7 +194,20 @@ fn draw_fitted(band: &mut RgbImage, (x, y): (u32, u32), width: u32, label: &str,
     // A shrunk label sits on the same middle line as one at full size.
     let offset_y = ((GLYPH as f32 - GLYPH as f32 * size / TEXT) / 2.0).round() as u32;
     draw_text(&mut strip, (offset_x, offset_y), label, size, INK);
-    image::imageops::replace(band, &strip, i64::from(x), i64::from(y));
+    paste(band, &strip, (x, y));
+}
+
+/// Copies `image` into `onto` with its top left corner at (x, y), row by row, clipped to `onto`
+/// (`image::imageops::replace` goes pixel by pixel: 0.7 ms a 600 x 400 tile, a twentieth of a sweep's image).
+pub fn paste(onto: &mut RgbImage, image: &RgbImage, (x, y): (u32, u32)) {
+    let width = image.width().min(onto.width().saturating_sub(x)) as usize * 3;
+    let rows = image.height().min(onto.height().saturating_sub(y)) as usize;
+    let (stride, onto_stride) = (image.width() as usize * 3, onto.width() as usize * 3);
+    let start = y as usize * onto_stride + x as usize * 3;
+    for row in 0..rows {
+        let to = start + row * onto_stride;
+        onto.as_mut()[to..to + width].copy_from_slice(&image.as_raw()[row * stride..row * stride + width]);
+    }
 }
 
 #[cfg(test)]

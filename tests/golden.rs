@@ -31,6 +31,8 @@ fn fraction_within_one(image: &image::RgbImage, golden: &image::RgbImage) -> f64
     within.count() as f64 / f64::from(image.width() * image.height())
 }
 
+// Caught when broken on purpose (resolve.comp, where it writes the background): the background given to the
+// samples an object covers and not to the others, to none, or black instead of the scene's colour.
 #[test]
 fn images_match_the_golden_images() {
     let info = renderer().device_info().clone();

@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use glam::Vec3;
 use vk_render::compare::Comparison;
-use vk_render::output::write_image;
+use vk_render::output::{write_image, TexelOrder};
 
 #[test]
 fn figure_1_has_the_course_values() {
@@ -64,6 +64,45 @@ fn the_same_scene_gives_the_same_bytes() {
         .iter()
         .zip(&second.pixels)
         .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
+}
+
+#[test]
+fn the_resolve_pass_writes_the_hosts_levels() {
+    // PNGs and the preview's frames take the course's output transform from the resolve pass
+    // (shaders/resolve.comp), in every texel order: byte for byte what the host's encoding of the radiance
+    // gives, at any exposure (far above 1 saturates) and sample count; the other transforms and the term
+    // views are encoded by the host. Caught when broken on purpose: rounding instead of truncating, the
+    // exposure left out, the clamp left out, B and R not swapped. (One sample in place of the mean is
+    // caught by a_sphere_covers_and_shades_the_exact_sphere_at_every_sample.)
+    let cases: [(&str, &[&str]); 9] = [
+        ("fig1-lambert.toml", &[]),
+        // 35 pixels: the last four-pixel texel of the levels holds three.
+        ("fig1-lambert.toml", &["image.width=7", "image.height=5"]),
+        ("fig1-lambert.toml", &["image.exposure=2.7"]),
+        ("fig1-lambert.toml", &["image.exposure=0.37", "image.samples=1"]),
+        ("fig4-gold-metalness-0.5.toml", &["image.exposure=1.3"]),
+        ("fig5-golden-bunny.toml", &["image.width=300", "image.height=200"]),
+        ("fig6-blinn-phong.toml", &["image.exposure=13"]),
+        ("fig3-plastic-s-32.toml", &["image.encoding=\"srgb\"", "image.tonemap=\"aces\""]),
+        ("fig3-plastic-s-32.toml", &["image.view=\"specular\""]),
+    ];
+    for (file, overrides) in cases {
+        let scene = asset_scene(file, overrides);
+        let expected = render(&scene).to_rgb8(&scene.image);
+        for order in [TexelOrder::Rgb, TexelOrder::Rgba, TexelOrder::Bgra] {
+            let mut texels = vec![0; expected.as_raw().len() / 3 * order.bytes()];
+            renderer().render_texels(&scene, order, &mut texels).expect("render with no validation message");
+            let differ = expected.pixels().zip(texels.chunks_exact(order.bytes())).filter(|(rgb, texel)| {
+                let [r, g, b] = rgb.0;
+                match order {
+                    TexelOrder::Rgb => texel[..] != [r, g, b],
+                    TexelOrder::Rgba => texel[..] != [r, g, b, 255],
+                    TexelOrder::Bgra => texel[..] != [b, g, r, 255],
+                }
+            });
+            assert_eq!(differ.count(), 0, "{file} {overrides:?} in {order:?}: pixels differ from the host's encoding");
+        }
+    }
 }
 
 #[test]

@@ -7,7 +7,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gpu_types::{brdf_id, diffuse_id};
-use super::passes::{begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, PassTargets};
+use super::passes::{
+    begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, DepthStart, PassTargets,
+};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
 use crate::scene::{EnvironmentMode, Object, Scene, ShadowFilter, View};
@@ -198,21 +200,37 @@ pub fn draw_background(device: &Device, cmd: vk::CommandBuffer, pipeline: vk::Pi
     }
 }
 
-/// Begins dynamic rendering into the colour target (resolved to `resolved` when multisampled, the float
-/// resolve averaging the samples as the course averages its pixel samples) and the depth target, neither
-/// loaded nor cleared: the background, drawn first ([`draw_background`]), writes every sample.
-pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets) {
-    let mut color = vk::RenderingAttachmentInfo::default()
+/// What writes the samples no object covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Background {
+    /// The background's triangle ([`draw_background`]), drawn first over every sample, colour and depth:
+    /// what clearing them would do, cheaper (see background.vert).
+    Drawn,
+    /// The resolve pass, where the depth is still [`UNCOVERED_DEPTH`]: the depth is cleared to it before
+    /// the pass (by the transfer: lavapipe's clear as the pass begins cost the orbiting bunny 3 ms a frame)
+    /// and kept, and the colour of those samples never written. On Debian 13's lavapipe the background's
+    /// triangle was 1.3 ms of Figure 1's 7.2 ms image; the resolve reads each sample's depth for a fraction
+    /// of that. A constant colour only, and a device whose depth may be cleared below 0
+    /// (VK_EXT_depth_range_unrestricted).
+    Resolved,
+}
+
+/// The depth the forward pass's samples keep where no object is drawn with [`Background::Resolved`]: below
+/// every depth an object can have (reverse-Z: 1 at the near plane, 0 at infinity).
+pub const UNCOVERED_DEPTH: f32 = -1.0;
+
+/// Begins dynamic rendering into the colour target, whose samples are kept for the resolve pass
+/// (`resolve.rs`, which averages them as the course averages its pixel samples), and the depth target:
+/// neither loaded nor cleared when the background's triangle is drawn first (it writes every sample), else
+/// loaded (cleared to [`UNCOVERED_DEPTH`] before) and kept for the resolve.
+pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets, background: Background) {
+    let color = vk::RenderingAttachmentInfo::default()
         .image_view(targets.color)
         .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
         .load_op(vk::AttachmentLoadOp::DONT_CARE)
         .store_op(vk::AttachmentStoreOp::STORE);
-    if let Some(resolved) = targets.resolve {
-        color = color
-            .resolve_mode(vk::ResolveModeFlags::AVERAGE)
-            .resolve_image_view(resolved)
-            .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE);
+    match background {
+        Background::Drawn => begin_rendering(device, cmd, targets, color, DepthStart::Written, false),
+        Background::Resolved => begin_rendering(device, cmd, targets, color, DepthStart::Loaded, true),
     }
-    begin_rendering(device, cmd, targets, color, vk::AttachmentLoadOp::DONT_CARE);
 }

@@ -4,12 +4,14 @@ pub mod albedo;
 mod environment;
 pub mod exact;
 mod forward;
+mod frame;
 pub mod gpu_types;
 mod measured;
 mod occluders;
 mod passes;
 mod picture;
 mod probe;
+mod resolve;
 mod scene_data;
 mod shadow;
 mod targets;
@@ -18,7 +20,7 @@ use std::borrow::Cow;
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 use crate::brdf::Brdf;
 use crate::environment::EnvironmentMap;
@@ -26,22 +28,20 @@ use crate::error::{Error, Result};
 use crate::mesh::{place_objects, PlacedMesh};
 use crate::output::{encode_texels, HdrImage, TexelOrder};
 use crate::scene::{EnvironmentMode, Scene};
-use crate::vulkan::{
-    layer_range, layout_transition, whole_image_copy, Access, Device, DeviceInfo, Instance, PipelineLayout, Sampler,
-    ShaderCompiler, ShaderSources,
-};
+use crate::vulkan::{Device, DeviceInfo, Instance, PipelineLayout, Sampler, ShaderCompiler, ShaderSources};
 use environment::{EnvironmentTextures, MAP_FORMAT};
-use exact::{Accuracy, Passes, SAMPLES_PER_PASS};
-use forward::{ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
-use gpu_types::{GpuAlbedoEntry, GpuFrame, GpuObject, GpuPointLight};
+use exact::{Accuracy, Passes};
+use forward::{Background, ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
+use frame::background_of;
+use gpu_types::GpuAlbedoEntry;
 use measured::MeasuredTables;
-use occluders::{faces_with_occluders, occluders};
-use passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
+use passes::MeshUploads;
 pub use picture::Picture;
 use probe::{read_vec3s, ProbePass};
 pub use probe::{AlbedoCell, AlbedoJob, CellIntegral, ProbeCase};
-use scene_data::{SceneData, SceneResources, SceneValues};
-use shadow::{cube_face_views, faces_read_by, lookup_margin, FaceKey, ShadowCubes, ShadowPass, DISTANCE_FORMAT};
+use resolve::{Readout, ResolvePass};
+use scene_data::SceneData;
+use shadow::{ShadowCubes, ShadowPass, DISTANCE_FORMAT};
 use targets::{Targets, BYTES_PER_PIXEL};
 
 /// The near plane's distance: with reverse-Z float depth the precision does not depend on it.
@@ -69,6 +69,9 @@ pub struct Renderer {
     shadow: ShadowPass,
     shadow_sampler: Sampler,
     forward: ForwardPass,
+    resolve: ResolvePass,
+    /// The sample counts at which the resolve writes a constant background (resolve.rs).
+    background_counts: vk::SampleCountFlags,
     /// Built on first use: only the BRDF tests need it.
     probe: Option<ProbePass>,
     compiler: ShaderCompiler,
@@ -120,7 +123,7 @@ impl Renderer {
         let device = Device::new(instance, options.device.as_deref(), &options.device_extensions, present_to)?;
         device.require_format(
             COLOR_FORMAT,
-            vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::TRANSFER_SRC,
+            vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::SAMPLED_IMAGE,
             "the forward pass's colour target",
         )?;
         device.require_format(DEPTH_FORMAT, vk::FormatFeatureFlags::DEPTH_STENCIL_ATTACHMENT, "depth")?;
@@ -133,6 +136,7 @@ impl Renderer {
         let layout = scene_layout(&device)?;
         let shadow = ShadowPass::new(&device, &compiler, &layout)?;
         let forward = ForwardPass::new(&device, &compiler, &layout)?;
+        let resolve = ResolvePass::new(&device, &compiler)?;
         device.require_format(
             MAP_FORMAT,
             vk::FormatFeatureFlags::SAMPLED_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR,
@@ -146,6 +150,8 @@ impl Renderer {
             shadow,
             shadow_sampler,
             forward,
+            resolve,
+            background_counts: resolve::background_sample_counts(&device),
             probe: None,
             compiler,
             meshes: MeshUploads::default(),
@@ -176,9 +182,11 @@ impl Renderer {
         let compiler = ShaderCompiler::new(shaders)?;
         let shadow = ShadowPass::new(&self.device, &compiler, &self.layout)?;
         let forward = ForwardPass::new(&self.device, &compiler, &self.layout)?;
+        let resolve = ResolvePass::new(&self.device, &compiler)?;
         // Pipelines of the old passes may still be referenced by work in flight: renders wait for theirs.
         self.shadow = shadow;
         self.forward = forward;
+        self.resolve = resolve;
         self.probe = None;
         // The cubes were drawn by the old shadow shaders.
         if let Some(cubes) = &mut self.shadow_cubes {
@@ -196,7 +204,10 @@ impl Renderer {
     /// The MSAA sample counts this device can render the forward pass with.
     pub fn supported_sample_counts(&self) -> Vec<u32> {
         let limits = &self.device.limits;
-        let counts = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
+        // The resolve pass samples the colour target.
+        let counts = limits.framebuffer_color_sample_counts
+            & limits.framebuffer_depth_sample_counts
+            & limits.sampled_image_color_sample_counts;
         // SAFETY: a plain query on a live physical device.
         let format_counts = unsafe {
             self.device.instance.raw.get_physical_device_image_format_properties(
@@ -204,7 +215,7 @@ impl Renderer {
                 COLOR_FORMAT,
                 vk::ImageType::TYPE_2D,
                 vk::ImageTiling::OPTIMAL,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
                 vk::ImageCreateFlags::empty(),
             )
         }
@@ -256,7 +267,7 @@ impl Renderer {
     /// `Error::Scene` for settings the device cannot honour, `Error::Mesh` for an unloadable OBJ,
     /// `Error::Vulkan`/`Error::Allocation` from the device, `Error::Validation` if the layer complained.
     pub fn render(&mut self, scene: &Scene) -> Result<HdrImage> {
-        let bytes = self.draw_and_read_back(scene)?;
+        let bytes = self.draw_and_read_back(scene, Readout::Radiance)?;
         let (width, height) = (scene.image.width, scene.image.height);
         Ok(HdrImage { width, height, pixels: read_vec3s(&bytes, BYTES_PER_PIXEL as usize) })
     }
@@ -268,11 +279,28 @@ impl Renderer {
     /// # Errors
     /// As [`Renderer::render`]; `Error::Vulkan(ERROR_MEMORY_MAP_FAILED)` when `texels` has the wrong size.
     pub fn render_texels(&mut self, scene: &Scene, order: TexelOrder, texels: &mut [u8]) -> Result<()> {
-        let bytes = self.draw_and_read_back(scene)?;
-        if texels.len() / order.bytes() != bytes.len() / BYTES_PER_PIXEL as usize {
+        let pixels = scene.image.width as usize * scene.image.height as usize;
+        if texels.len() != pixels * order.bytes() {
             return Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED));
         }
-        encode_texels(&bytes, &scene.image, order, texels);
+        // The course's output transform is computed by the resolve pass, to the bit (see resolve.comp).
+        let readout = Readout::levels_of(scene, order);
+        let bytes = self.draw_and_read_back(scene, readout.unwrap_or(Readout::Radiance))?;
+        let Some(levels) = readout else {
+            encode_texels(&bytes, &scene.image, order, texels);
+            return Ok(());
+        };
+        let (width, row_bytes) = (scene.image.width as usize, levels.row_bytes(scene.image.width));
+        for (row, texel_row) in bytes.chunks_exact(row_bytes).zip(texels.chunks_exact_mut(width * order.bytes())) {
+            match order {
+                TexelOrder::Rgb => {
+                    for (texel, level) in texel_row.chunks_exact_mut(3).zip(row.chunks_exact(4)) {
+                        texel.copy_from_slice(&level[..3]);
+                    }
+                }
+                TexelOrder::Rgba | TexelOrder::Bgra => texel_row.copy_from_slice(&row[..4 * width]),
+            }
+        }
         Ok(())
     }
 
@@ -288,10 +316,11 @@ impl Renderer {
         image::RgbImage::from_raw(width, height, pixels).ok_or(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED))
     }
 
-    /// Checks the scene against the device, draws it and returns the read-back buffer's bytes: four floats a
-    /// pixel, rows from the top. An environment in the exact mode is integrated pass after pass until it is
-    /// as exact as [`exact::TARGET_LEVELS`] says ([`Renderer::accuracy`] says how exact it came out).
-    fn draw_and_read_back(&mut self, scene: &Scene) -> Result<Cow<'_, [u8]>> {
+    /// Checks the scene against the device, draws it and returns the read-back buffer's bytes as `readout`
+    /// says, rows from the top. An environment in the exact mode is integrated pass after pass until it is
+    /// as exact as [`exact::TARGET_LEVELS`] says ([`Renderer::accuracy`] says how exact it came out): its
+    /// passes are read back as radiance.
+    fn draw_and_read_back(&mut self, scene: &Scene, readout: Readout) -> Result<Cow<'_, [u8]>> {
         self.check_image_settings(scene)?;
         let placed = place_objects(scene)?;
         self.accuracy = None;
@@ -304,10 +333,11 @@ impl Renderer {
             self.accuracy = Some(passes.accuracy(&scene.image));
             return Ok(Cow::Owned(passes.mean_bytes()));
         }
-        self.draw(scene, &placed, 0)?;
+        self.draw(scene, &placed, 0, readout)?;
         self.check_validation()?;
+        let length = scene.image.height as usize * readout.row_bytes(scene.image.width);
         match &self.targets {
-            Some(targets) => targets.readback.bytes().map(Cow::Borrowed),
+            Some(targets) => Ok(Cow::Borrowed(&targets.readback.bytes()?[..length])),
             None => Err(Error::Vulkan(vk::Result::ERROR_MEMORY_MAP_FAILED)),
         }
     }
@@ -328,7 +358,7 @@ impl Renderer {
     }
 
     fn add_pass(&mut self, scene: &Scene, placed: &[PlacedMesh], passes: &mut Passes) -> Result<()> {
-        self.draw(scene, placed, passes.next_first_sample())?;
+        self.draw(scene, placed, passes.next_first_sample(), Readout::Radiance)?;
         self.check_validation()?;
         match &self.targets {
             Some(targets) => passes.add(targets.readback.bytes()?),
@@ -428,7 +458,20 @@ impl Renderer {
             keys.push(PipelineKey::background(scene));
             keys.extend(scene.objects.iter().zip(&placed).map(|(object, p)| PipelineKey::for_object(scene, object, p)));
         }
-        self.forward.pipelines(&keys).map(drop)
+        // The resolve pipelines for the PNGs' readouts, on a thread of their own beside the forward pass's.
+        let (forward, resolve, background_counts) = (&mut self.forward, &mut self.resolve, self.background_counts);
+        std::thread::scope(|scope| {
+            let resolved = scope.spawn(|| {
+                scenes.iter().try_for_each(|scene| {
+                    let readout = Readout::levels_of(scene, TexelOrder::Rgb).unwrap_or(Readout::Radiance);
+                    let background = background_of(scene, background_counts) == Background::Resolved;
+                    resolve.build(scene.image.samples, readout, background)
+                })
+            });
+            let built = forward.pipelines(&keys).map(drop);
+            let resolved = resolved.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            built.and(resolved)
+        })
     }
 
     /// Evaluates `brdf_eval` of the GLSL on the GPU for every case (the probe pass), as float32.
@@ -476,355 +519,7 @@ impl Renderer {
             Err(Error::Validation(messages))
         }
     }
-
-    /// Draws the scene into the kept targets and copies it to their read-back buffer; an environment in the
-    /// exact mode takes the samples from `first_sample` on.
-    fn draw(&mut self, scene: &Scene, placed: &[PlacedMesh], first_sample: u32) -> Result<()> {
-        let environment_albedo = self.prepare_environment(scene)?;
-        let device = self.device.clone();
-        let (width, height) = (scene.image.width, scene.image.height);
-        let samples = vk::SampleCountFlags::from_raw(scene.image.samples);
-
-        // Scene data. Each light that casts shadows on something gets the next cube of the shadow cube array,
-        // holding its occluders on the faces the image reads where they fall (occluders.rs).
-        let occluders: Vec<Vec<bool>> = scene
-            .lights
-            .iter()
-            .map(|light| {
-                if light.shadows {
-                    occluders(light.position, scene.camera.position, placed)
-                } else {
-                    vec![false; placed.len()]
-                }
-            })
-            .collect();
-        let shadow_casters: Vec<usize> = (0..scene.lights.len()).filter(|&i| occluders[i].iter().any(|&o| o)).collect();
-        let margin = lookup_margin(scene) as f32;
-        let seen: Vec<[bool; 6]> = shadow_casters
-            .iter()
-            .map(|&i| {
-                let light = scene.lights[i].position;
-                let read = faces_read_by(scene, light);
-                let occupied = faces_with_occluders(light, placed, &occluders[i], margin);
-                std::array::from_fn(|face| read[face] && occupied[face])
-            })
-            .collect();
-        let lights: Vec<GpuPointLight> = scene
-            .lights
-            .iter()
-            .enumerate()
-            .map(|(i, light)| {
-                GpuPointLight::new(light, shadow_casters.iter().position(|&c| c == i).map(|cube| (cube, seen[cube])))
-            })
-            .collect();
-        self.measured.hold(&device, scene.objects.iter().map(|o| &o.brdf))?;
-        let objects: Vec<GpuObject> = scene
-            .objects
-            .iter()
-            .zip(placed)
-            .map(|(object, p)| GpuObject::new(object, p.model, &self.measured))
-            .collect();
-        // Every face of every cube, in the order of the array's layers.
-        let shadow_faces: Vec<PassView> = shadow_casters
-            .iter()
-            .flat_map(|&i| {
-                let viewpoint = scene.lights[i].position;
-                cube_face_views(viewpoint, NEAR_PLANE).map(|view_projection| PassView { viewpoint, view_projection })
-            })
-            .collect();
-        let shadow_views: Vec<[[f32; 4]; 4]> =
-            shadow_faces.iter().map(|face| face.view_projection.to_cols_array_2d()).collect();
-        let mut frame = GpuFrame::new(&scene.camera, &scene.image, NEAR_PLANE);
-        if let Some(environment) = &scene.environment {
-            let (sin, cos) = environment.rotation.to_radians().sin_cos();
-            let shown = environment.visible && scene.image.view == crate::scene::View::Radiance;
-            frame.environment = [cos, sin, environment.intensity, f32::from(u8::from(shown))];
-            let (width, height) = self.environment.sampling_size;
-            frame.environment_sampling = [width, height, first_sample, SAMPLES_PER_PASS];
-        }
-        let values = SceneValues {
-            frame,
-            lights: &lights,
-            objects: &objects,
-            shadow_views: &shadow_views,
-            environment_albedo: &environment_albedo,
-        };
-
-        // What is kept from the last image where it still holds, made anew where not.
-        self.meshes.update(&device, placed)?;
-        let cube_size = scene.image.shadow_map_size;
-        let mut cubes = ShadowCubes::for_lights(&device, self.shadow_cubes.take(), cube_size, shadow_casters.len())
-            .map_err(|e| {
-                // Distance and depth, 4 bytes a texel each: six faces a casting light, and one depth face.
-                let bytes = u64::from(cube_size).pow(2) * 4 * (6 * shadow_casters.len() as u64 + 1);
-                too_big(e, scene, format!("image.shadow_map_size = {cube_size}"), "shadow cubes", bytes)
-            })?;
-        let faces_to_draw = faces_to_draw(scene, placed, (&shadow_casters, &seen, &occluders), &shadow_faces, &cubes);
-        let targets = Targets::for_size(&device, self.targets.take(), width, height, samples).map_err(|e| {
-            // Colour (16 bytes) and depth (4) a sample, the resolved image and its read-back copy (16 each).
-            let bytes = u64::from(width) * u64::from(height) * (20 * u64::from(scene.image.samples) + 32);
-            let setting = format!("image.width x height x samples = {width} x {height} x {}", scene.image.samples);
-            too_big(e, scene, setting, "render targets", bytes)
-        })?;
-        let images = SceneResources {
-            shadow_cubes: (cubes.maps.view, &self.shadow_sampler),
-            environment: (&self.environment, &self.environment_sampler),
-            measured: self.measured.buffer(),
-        };
-        let scene_data = match self.scene_data.take() {
-            Some(mut data) => {
-                data.write(&device, &values, images)?;
-                data
-            }
-            None => SceneData::new(&device, &self.layout, &values, images)?,
-        };
-        let keys: Vec<PipelineKey> = std::iter::once(PipelineKey::background(scene))
-            .chain(scene.objects.iter().zip(placed).map(|(object, p)| PipelineKey::for_object(scene, object, p)))
-            .collect();
-        let pipelines = self.forward.pipelines(&keys)?;
-        let (background_pipeline, forward_pipelines) = (pipelines[0], &pipelines[1..]);
-        let shadow_pipelines: Vec<vk::Pipeline> = placed.iter().map(|p| self.shadow.pipeline(p)).collect();
-
-        let frame = FrameRecording {
-            device: &device,
-            layout: self.layout.raw,
-            set: scene_data.set,
-            placed,
-            meshes: &self.meshes,
-            shadow: ShadowDrawing { pipelines: &shadow_pipelines, faces: &faces_to_draw, lay_out: cubes.need_layout() },
-            cubes: &cubes,
-            forward: forward_pipelines,
-            camera: PassView {
-                viewpoint: scene.camera.position,
-                view_projection: Mat4::from_cols_array_2d(&values.frame.view_projection),
-            },
-            targets: &targets,
-            background: background_pipeline,
-        };
-        let drawn = device.submit_and_wait(|cmd| {
-            frame.record(cmd);
-            Ok(())
-        });
-        let drawn_faces: Vec<(u32, FaceKey)> = faces_to_draw.into_iter().map(|face| (face.layer, face.key)).collect();
-        cubes.set_drawn(drawn.is_ok().then_some(&drawn_faces[..]));
-        self.shadow_cubes = Some(cubes);
-        self.targets = Some(targets);
-        self.scene_data = Some(scene_data);
-        drawn
-    }
 }
-
-/// An allocation that failed for what `setting` of `scene` asked, said as such with the bytes it needed;
-/// any other error as it is.
-fn too_big(error: Error, scene: &Scene, setting: String, what: &str, bytes: u64) -> Error {
-    let why = match &error {
-        Error::Allocation(e) => e.to_string(),
-        // lavapipe on Mesa 25 refuses such an image when it is made.
-        Error::Vulkan(e @ (vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY)) => {
-            e.to_string()
-        }
-        _ => return error,
-    };
-    Error::Scene {
-        file: scene.source.clone(),
-        message: format!(
-            "{setting}: the {what} need {:.1} GiB of device memory, more than the device could give ({why})",
-            bytes as f64 / f64::from(1u32 << 30)
-        ),
-    }
-}
-
-/// One face of a shadow cube to draw.
-struct FaceDrawing {
-    /// The face's layer in the cube array.
-    layer: u32,
-    /// The light's index in the scene, and the face (0 to 5: +x, -x, +y, -y, +z, -z).
-    light_face: (u32, u32),
-    view: PassView,
-    /// What it will hold; its `occluders` are the objects drawn into it.
-    key: FaceKey,
-}
-
-/// The faces of the shadow cubes that this image reads (`seen`, per light of `casters`) and `cubes` do not
-/// hold yet, each to be drawn with the objects that can shadow from its light (`occluders`, per light of the
-/// scene).
-fn faces_to_draw(
-    scene: &Scene,
-    placed: &[PlacedMesh],
-    (casters, seen, occluders): (&[usize], &[[bool; 6]], &[Vec<bool>]),
-    views: &[PassView],
-    cubes: &ShadowCubes,
-) -> Vec<FaceDrawing> {
-    let geometry: Arc<[PlacedMesh]> = placed.into();
-    let mut faces = Vec::new();
-    for (cube, (&light, seen)) in casters.iter().zip(seen).enumerate() {
-        let size = scene.image.shadow_map_size;
-        let key = FaceKey::new(size, scene.lights[light].position, geometry.clone(), occluders[light].clone());
-        for face in (0..6).filter(|&face| seen[face]) {
-            let layer = (6 * cube + face) as u32;
-            if !cubes.holds(layer, &key) {
-                let light_face = (light as u32, face as u32);
-                faces.push(FaceDrawing { layer, light_face, view: views[layer as usize], key: key.clone() });
-            }
-        }
-    }
-    faces
-}
-
-/// One image's commands: the shadow cube faces it needs drawn, the forward pass, the read-back.
-struct FrameRecording<'a> {
-    device: &'a Device,
-    layout: vk::PipelineLayout,
-    set: vk::DescriptorSet,
-    placed: &'a [PlacedMesh],
-    meshes: &'a MeshUploads,
-    shadow: ShadowDrawing<'a>,
-    cubes: &'a ShadowCubes,
-    /// The forward pass's pipeline for each object.
-    forward: &'a [vk::Pipeline],
-    camera: PassView,
-    targets: &'a Targets,
-    /// The background's pipeline.
-    background: vk::Pipeline,
-}
-
-/// The shadow cube faces to draw.
-struct ShadowDrawing<'a> {
-    /// The shadow pass's pipeline for each object.
-    pipelines: &'a [vk::Pipeline],
-    faces: &'a [FaceDrawing],
-    /// Whether the cubes' layers still need their first transition to the layout the forward pass reads.
-    lay_out: bool,
-}
-
-impl FrameRecording<'_> {
-    fn record(&self, cmd: vk::CommandBuffer) {
-        let device = self.device;
-        // SAFETY: every handle recorded here lives until submit_and_wait has waited for the work.
-        unsafe {
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout, 0, &[self.set], &[]);
-        }
-        let mut to_targets = self.record_shadow_faces(cmd);
-
-        // The forward pass.
-        let targets = self.targets;
-        to_targets.push(image_barrier(
-            &targets.resolved,
-            vk::ImageLayout::UNDEFINED,
-            COLOR_TARGET,
-            NOTHING,
-            COLOR_WRITE,
-        ));
-        to_targets.push(image_barrier(&targets.depth, vk::ImageLayout::UNDEFINED, DEPTH_TARGET, NOTHING, DEPTH_TESTS));
-        if let Some(image) = &targets.multisampled {
-            to_targets.push(image_barrier(image, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE));
-        }
-        barriers(device, cmd, &to_targets);
-        let pass = targets.pass_targets();
-        forward::begin(device, cmd, &pass);
-        forward::draw_background(device, cmd, self.background, &pass);
-        draw_objects(device, cmd, self.layout, self.forward, self.camera, &pass, self.placed, self.meshes, None);
-        // SAFETY: as above.
-        unsafe { device.raw.cmd_end_rendering(cmd) };
-
-        // Read back the resolved image.
-        barriers(
-            device,
-            cmd,
-            &[image_barrier(
-                &targets.resolved,
-                COLOR_TARGET,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                COLOR_WRITE,
-                COPY_READ,
-            )],
-        );
-        let region = whole_image_copy(pass.width, pass.height);
-        // SAFETY: as above.
-        unsafe {
-            device.raw.cmd_copy_image_to_buffer(
-                cmd,
-                targets.resolved.raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                targets.readback.raw,
-                &[region],
-            );
-        }
-        targets.readback.record_host_read_barrier(cmd, vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE);
-    }
-
-    /// Draws the shadow cube faces to draw, and returns the barriers that make them (and, on the first image,
-    /// every layer) readable by the forward pass, to be recorded with the forward pass's own.
-    fn record_shadow_faces(&self, cmd: vk::CommandBuffer) -> Vec<vk::ImageMemoryBarrier2<'static>> {
-        let (device, cubes, shadow) = (self.device, self.cubes, &self.shadow);
-        let layer = |layer: u32, old, new, src, dst| {
-            layout_transition(cubes.maps.raw, layer_range(vk::ImageAspectFlags::COLOR, layer, 1), old, new, src, dst)
-        };
-        let drawn = |l: u32| shadow.faces.iter().any(|face| face.layer == l);
-        // Faces to draw go to the colour target layout, their contents discarded; on the first image every
-        // other layer goes to the layout the set names, never to be written (no visible point reads it).
-        let to_targets: Vec<_> = shadow
-            .faces
-            .iter()
-            .map(|f| layer(f.layer, vk::ImageLayout::UNDEFINED, COLOR_TARGET, NOTHING, COLOR_WRITE))
-            .collect();
-        let mut to_read: Vec<_> = Vec::new();
-        if shadow.lay_out {
-            let unused = (0..cubes.maps.desc.layers).filter(|&l| !drawn(l));
-            to_read.extend(unused.map(|l| layer(l, vk::ImageLayout::UNDEFINED, READ_ONLY, NOTHING, SAMPLED)));
-        }
-        if to_targets.is_empty() {
-            return to_read;
-        }
-        barriers(device, cmd, &to_targets);
-        let size = cubes.depth.desc.width;
-        for face in shadow.faces {
-            // The depth image is cleared for each face: the previous face's tests must be over first.
-            barriers(
-                device,
-                cmd,
-                &[image_barrier(&cubes.depth, vk::ImageLayout::UNDEFINED, DEPTH_TARGET, DEPTH_TESTS, DEPTH_TESTS)],
-            );
-            let face_view = &cubes.face_views[face.layer as usize];
-            let targets =
-                PassTargets { color: face_view.raw, resolve: None, depth: cubes.depth.view, width: size, height: size };
-            shadow::begin(device, cmd, &targets);
-            draw_objects(
-                device,
-                cmd,
-                self.layout,
-                shadow.pipelines,
-                face.view,
-                &targets,
-                self.placed,
-                self.meshes,
-                Some((face.light_face, &face.key.occluders)),
-            );
-            // SAFETY: the command buffer is recording; every handle outlives the submission.
-            unsafe { device.raw.cmd_end_rendering(cmd) };
-        }
-        to_read.extend(shadow.faces.iter().map(|f| layer(f.layer, COLOR_TARGET, READ_ONLY, COLOR_WRITE, SAMPLED)));
-        to_read
-    }
-}
-
-const COLOR_TARGET: vk::ImageLayout = vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL;
-const DEPTH_TARGET: vk::ImageLayout = vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL;
-const READ_ONLY: vk::ImageLayout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-const NOTHING: Access = (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE);
-const COLOR_WRITE: Access =
-    (vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE);
-const DEPTH_TESTS: Access = (
-    vk::PipelineStageFlags2::from_raw(
-        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
-    ),
-    vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
-            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
-    ),
-);
-const SAMPLED: Access = (vk::PipelineStageFlags2::FRAGMENT_SHADER, vk::AccessFlags2::SHADER_SAMPLED_READ);
-const COPY_READ: Access = (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_READ);
 
 /// The descriptor set layout and push constants shared by the shadow and forward passes: the frame (0),
 /// lights (1), objects (2), the shadow cubes' face matrices (3), the shadow cubes (4), the environment's map

@@ -89,8 +89,6 @@ impl CompiledShader {
 /// The attachments of one pass.
 pub struct PassTargets {
     pub color: vk::ImageView,
-    /// The single-sample image a multisampled colour target resolves to.
-    pub resolve: Option<vk::ImageView>,
     pub depth: vk::ImageView,
     pub width: u32,
     pub height: u32,
@@ -295,22 +293,39 @@ pub fn barriers(device: &Device, cmd: vk::CommandBuffer, barriers: &[vk::ImageMe
     unsafe { device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(barriers)) };
 }
 
-/// Begins dynamic rendering into `color` and the targets' depth image, loaded with `depth_load` (a clear
-/// to 0, the far end in reverse-Z, or nothing when the pass writes every sample itself) and not stored.
+/// How a pass starts its depth target.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DepthStart {
+    /// Cleared to this depth as the pass begins (0 is the far end in reverse-Z).
+    Cleared(f32),
+    /// As it is (cleared before the pass began).
+    Loaded,
+    /// Neither loaded nor cleared: the pass's first draw writes every sample.
+    Written,
+}
+
+/// Begins dynamic rendering into `color` and the targets' depth image, started as `depth` says and stored
+/// only when `keep_depth` (for a later pass to read).
 pub fn begin_rendering(
     device: &Device,
     cmd: vk::CommandBuffer,
     targets: &PassTargets,
     color: vk::RenderingAttachmentInfo,
-    depth_load: vk::AttachmentLoadOp,
+    depth: DepthStart,
+    keep_depth: bool,
 ) {
     let colors = [color];
+    let (load, clear) = match depth {
+        DepthStart::Cleared(value) => (vk::AttachmentLoadOp::CLEAR, value),
+        DepthStart::Loaded => (vk::AttachmentLoadOp::LOAD, 0.0),
+        DepthStart::Written => (vk::AttachmentLoadOp::DONT_CARE, 0.0),
+    };
     let depth = vk::RenderingAttachmentInfo::default()
         .image_view(targets.depth)
         .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-        .load_op(depth_load)
-        .store_op(vk::AttachmentStoreOp::DONT_CARE)
-        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
+        .load_op(load)
+        .store_op(if keep_depth { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE })
+        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: clear, stencil: 0 } });
     let rendering = vk::RenderingInfo::default()
         .render_area(targets.area())
         .layer_count(1)

@@ -14,7 +14,7 @@ use glam::{Mat4, Vec3};
 
 use super::forward::DEPTH_FORMAT;
 use super::gpu_types::PixelRays;
-use super::passes::{begin_rendering, build_pipeline, CompiledShader, PassTargets};
+use super::passes::{begin_rendering, build_pipeline, CompiledShader, DepthStart, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
 use crate::scene::{Camera, Scene, ShadowFilter};
@@ -280,7 +280,7 @@ pub fn begin(device: &Device, cmd: vk::CommandBuffer, targets: &PassTargets) {
         .load_op(vk::AttachmentLoadOp::CLEAR)
         .store_op(vk::AttachmentStoreOp::STORE)
         .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: [FAR_AWAY, 0.0, 0.0, 0.0] } });
-    begin_rendering(device, cmd, targets, color, vk::AttachmentLoadOp::CLEAR);
+    begin_rendering(device, cmd, targets, color, DepthStart::Cleared(0.0), false);
 }
 
 #[cfg(test)]

@@ -102,6 +102,9 @@ pub struct Device {
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: vk::CommandPool,
     pub instance: Arc<Instance>,
+    /// VK_EXT_depth_range_unrestricted is enabled: depth may be cleared outside [0, 1], which the forward
+    /// pass uses to mark the samples no object covers (render/resolve.rs).
+    pub depth_range_unrestricted: bool,
 }
 
 impl Device {
@@ -142,7 +145,12 @@ impl Device {
         let mut features13 =
             vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
         let features = vk::PhysicalDeviceFeatures::default().image_cube_array(true);
-        let extension_names: Vec<*const std::ffi::c_char> = extensions.iter().map(|e| e.as_ptr()).collect();
+        // SAFETY: physical comes from this instance.
+        let offered = unsafe { instance.raw.enumerate_device_extension_properties(physical)? };
+        let unrestricted = ash::ext::depth_range_unrestricted::NAME;
+        let depth_range_unrestricted = offered.iter().any(|e| e.extension_name_as_c_str() == Ok(unrestricted));
+        let extension_names: Vec<*const std::ffi::c_char> =
+            extensions.iter().chain(depth_range_unrestricted.then_some(&unrestricted)).map(|e| e.as_ptr()).collect();
         let create_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&extension_names)
@@ -197,6 +205,7 @@ impl Device {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool,
             instance,
+            depth_range_unrestricted,
         }))
     }
 
