@@ -15,7 +15,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::forward::DEPTH_FORMAT;
-use super::targets::Targets;
+use super::targets::{Targets, BYTES_PER_PIXEL};
 use crate::error::Result;
 use crate::output::TexelOrder;
 use crate::scene::{Encoding, EnvironmentMode, Scene, Tonemap};
@@ -48,13 +48,16 @@ impl Readout {
     /// Bytes a row of `width` pixels takes in the read-back buffer.
     pub fn row_bytes(self, width: u32) -> usize {
         match self {
-            Self::Radiance => 16 * width as usize,
-            Self::Levels { .. } => 16 * width.div_ceil(4) as usize,
+            Self::Radiance => BYTES_PER_PIXEL as usize * width as usize,
+            Self::Levels { .. } => TEXEL_BYTES * width.div_ceil(4) as usize,
         }
     }
 }
 
 const WORKGROUP_SIZE: u32 = 64;
+
+/// What each invocation of resolve.comp stores (a uvec4): one pixel's radiance, or four pixels' levels.
+const TEXEL_BYTES: usize = 16;
 
 /// The resolve shader's builds (a multisampled target or a single-sample one; writing the background or
 /// not), its pipelines by sample count, readout and background (built when first used), and the one set
@@ -216,7 +219,7 @@ impl ResolvePass {
             layout: self.layout.raw,
             set,
             push: [width, height, exposure.to_bits(), 0, r, g, b, a],
-            row_invocations: (readout.row_bytes(width) / 16) as u32,
+            row_invocations: (readout.row_bytes(width) / TEXEL_BYTES) as u32,
         })
     }
 }
