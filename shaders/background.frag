@@ -14,7 +14,7 @@ layout(location = 0) out vec4 out_radiance;
 
 void main() {
 #ifdef WITH_ENVIRONMENT
-    if (ENVIRONMENT != ENVIRONMENT_NONE && frame.environment.w != 0.0) {
+    if (ENVIRONMENT != ENVIRONMENT_NONE) {
         vec3 ray = normalize((frame.pixel_rays * vec4(gl_FragCoord.xy, 1.0, 0.0)).xyz);
         out_radiance = vec4(environment_radiance(ray), 1.0);
         return;

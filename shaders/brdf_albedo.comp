@@ -7,9 +7,11 @@
 // Gauss rule embedded in it (Piessens et al. 1983, QUADPACK): their difference bounds the error, and the
 // CPU (src/analysis/albedo.rs) splits the cells where it is too large and adds the cells in double precision.
 //
-// The frame: n = +z, wo in the xz-plane (phi_o = 0), wi = (sin t cos p, sin t sin p, cos t).
+// The frame: n = +z, X = +x, wo in the xz-plane (phi_o = 0), wi = (sin t cos p, sin t sin p, cos t).
 
 #define MEASURED_BINDING 3
+#define ANALYTIC_BINDING 4
+#define ANALYTIC_REPORT_BINDING 5
 #include "common/brdf.glsl"
 
 layout(local_size_x = 64) in;
@@ -31,7 +33,8 @@ layout(set = 0, binding = 0, std430) readonly buffer Jobs { AlbedoJob jobs[]; };
 layout(set = 0, binding = 1, std430) readonly buffer Cells { AlbedoCell cells[]; };
 // Per cell: the Kronrod estimate, then the Gauss estimate.
 layout(set = 0, binding = 2, std430) writeonly buffer Results { vec4 results[]; };
-// Binding 3: the measured tables (brdf/measured.glsl).
+// Binding 3: the measured tables (brdf/measured.glsl); 4 and 5: the analytic materials' values and their
+// report (common/analytic.glsl).
 
 layout(push_constant) uniform Probe { uint cell_count; } probe;
 
@@ -75,7 +78,7 @@ void main() {
         for (int b = 0; b < 15; ++b) {
             float phi = phi_mid.x + phi_mid.y * NODES[b];
             vec3 wi = vec3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
-            vec3 f = brdf_eval(job.material, n, wi, job.wo.xyz);
+            vec3 f = brdf_eval(job.material, n, vec3(1.0, 0.0, 0.0), wi, job.wo.xyz);
             kronrod_ring += KRONROD[b] * f;
             gauss_ring += GAUSS[b] * f;
         }

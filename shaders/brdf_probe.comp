@@ -4,6 +4,10 @@
 // (material, n, wi, wo) cases, so that tests can compare every GLSL BRDF with its Rust mirror.
 
 #define MEASURED_BINDING 2
+#define ANALYTIC_BINDING 3
+#define ANALYTIC_REPORT_BINDING 4
+// The probe reports an analytic model's NaN, infinite and negative values as they are (a fit must see them).
+#define ANALYTIC_KEEPS_INVALID
 #include "common/brdf.glsl"
 
 layout(local_size_x = 64) in;
@@ -17,7 +21,9 @@ struct ProbeCase {
 
 layout(set = 0, binding = 0, std430) readonly buffer Cases { ProbeCase cases[]; };
 layout(set = 0, binding = 1, std430) writeonly buffer Results { vec4 results[]; };
-// Binding 2: the measured tables (brdf/measured.glsl).
+// Binding 2: the measured tables (brdf/measured.glsl); 3 and 4: the analytic materials' values and their
+// report (common/analytic.glsl).
+// The frame of each case is n and default_tangent(n): on n = +z, BRDF Explorer's X = +x and Y = +y.
 
 layout(push_constant) uniform Probe { uint case_count; } probe;
 
@@ -27,5 +33,6 @@ void main() {
         return;
     }
     ProbeCase c = cases[i];
-    results[i] = vec4(brdf_eval(c.material, c.n.xyz, c.wi.xyz, c.wo.xyz), 0.0);
+    vec3 n = c.n.xyz;
+    results[i] = vec4(brdf_eval(c.material, n, default_tangent(n), c.wi.xyz, c.wo.xyz), 0.0);
 }

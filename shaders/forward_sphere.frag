@@ -15,6 +15,12 @@
 
 layout(location = 0) out vec4 out_radiance;
 
+// MSAA samples per pixel, fixed when the pipeline is built (a pipeline is made for one sample count anyway).
+// Read from the frame's uniform buffer instead, the loop's bound was a uniform in control flow, which Mesa
+// 22's lavapipe inlines by compiling the shader again each time the pipeline is bound, and keeps every copy:
+// 0.7 MB more memory and a compilation for each image of a sweep.
+layout(constant_id = 6) const int SAMPLES = 1;
+
 // Vulkan's standard sample locations within a pixel (the specification's table; the renderer checks that
 // the device uses them). Counts of 1, 2, 4 and 8.
 const vec2 SAMPLE_LOCATIONS[15] = vec2[15](
@@ -38,10 +44,10 @@ void main() {
     int covered = 0;
     float first_t = 0.0;
     vec3 first_ray = vec3(0.0);
-    int first_location = int(frame.samples) - 1;  // the table's entries for a count n start at n - 1
+    int first_location = SAMPLES - 1;  // the table's entries for a count n start at n - 1
     vec2 corner = floor(gl_FragCoord.xy);
     bool any_hit = false;
-    for (int i = 0; i < int(frame.samples); ++i) {
+    for (int i = 0; i < SAMPLES; ++i) {
         vec3 ray = camera_ray(corner + SAMPLE_LOCATIONS[first_location + i]);
         float t;
         if (ray_sphere(eye, ray, center, radius, t)) {

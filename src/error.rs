@@ -51,6 +51,11 @@ pub enum Error {
     #[error("{}: {message}", path.display())]
     Input { path: PathBuf, message: String },
 
+    /// The device did not finish a piece of work within the timeout (`--timeout`), and was given up: the
+    /// analytic models the work evaluated, which may never end (a `while (true)`), are named.
+    #[error("the device did not finish its work within {seconds} s (--timeout){}", suspects(models))]
+    Timeout { seconds: f64, models: Vec<PathBuf> },
+
     /// The computation was asked to stop before it was done (see `interrupt`).
     #[error("interrupted")]
     Interrupted,
@@ -58,6 +63,17 @@ pub enum Error {
     /// The output image could not be written.
     #[error("{}: {message}", path.display())]
     Output { path: PathBuf, message: String },
+}
+
+/// What a timeout's message says of the analytic models the work evaluated.
+fn suspects(models: &[PathBuf]) -> String {
+    match models {
+        [] => ": the device is given up".to_string(),
+        models => {
+            let names: Vec<String> = models.iter().map(|m| m.display().to_string()).collect();
+            format!(": the BRDF of {} may never end; the device is given up", names.join(", "))
+        }
+    }
 }
 
 /// The library's result type.

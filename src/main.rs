@@ -25,6 +25,11 @@ struct Cli {
     #[arg(long, global = true)]
     validate: bool,
 
+    /// How long to wait for the device to finish a piece of work before giving up, in seconds (a .brdf
+    /// file's BRDF that never ends is reported so).
+    #[arg(long, global = true, value_name = "SECONDS", default_value_t = vk_render::render::DEFAULT_TIMEOUT.as_secs_f64(), value_parser = positive_seconds)]
+    timeout: f64,
+
     #[command(subcommand)]
     command: Command,
 }
@@ -88,8 +93,31 @@ fn main() -> ExitCode {
         Ok(status) => status,
         Err(e) => {
             eprintln!("error: {e:#}");
+            if matches!(e.downcast_ref::<vk_render::Error>(), Some(vk_render::Error::Timeout { .. })) {
+                exit_leaving_the_device();
+            }
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Ends the process at once with status 1, after a device was given up on work that may never end: the
+/// driver's threads may still run that work, and an ordinary exit runs the driver's exit handlers, which
+/// wait for them.
+fn exit_leaving_the_device() -> ! {
+    use std::io::Write;
+    let _ = std::io::stderr().flush();
+    let _ = std::io::stdout().flush();
+    // SAFETY: _exit ends the process without running exit handlers; the output above is flushed and every
+    // file vk-render writes is renamed into place whole or not at all.
+    unsafe { libc::_exit(1) }
+}
+
+/// `--timeout`: a number of seconds above 0.
+fn positive_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(seconds) if seconds.is_finite() && seconds > 0.0 => Ok(seconds),
+        _ => Err(format!("`{text}` is not a number of seconds above 0")),
     }
 }
 
@@ -148,7 +176,12 @@ fn remove_partial_files_on_signals() {
 
 /// Runs the command: its exit status, or its error (exit status 1). `check` has its own statuses.
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
-    let options = RendererOptions { device: cli.device, validate: cli.validate, ..Default::default() };
+    let options = RendererOptions {
+        device: cli.device,
+        validate: cli.validate,
+        timeout: Some(std::time::Duration::from_secs_f64(cli.timeout)),
+        ..Default::default()
+    };
     let done = match cli.command {
         Command::Devices => commands::devices::run(cli.validate),
         Command::Render(args) => commands::render::run(args, options),
@@ -160,7 +193,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Furnace(args) => commands::furnace::run(args, options),
         Command::Compare(args) => commands::compare::run(args, options),
         Command::Fit(args) => commands::fit::run(args, options),
-        Command::Tabulate(args) => commands::tabulate::run(args),
+        Command::Tabulate(args) => commands::tabulate::run(args, options),
         Command::Check(args) => return Ok(commands::check::run(args, options)),
         #[cfg(feature = "preview")]
         Command::Preview(args) => commands::preview::run(args, options),

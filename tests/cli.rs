@@ -512,35 +512,20 @@ fn a_partial_file_a_killed_process_left_is_removed_by_the_next_write() {
 }
 
 #[test]
-fn a_500_value_sweep_stays_within_300_mb() {
-    // Each tile is written when it is done and the sheet made band by band: one row of tiles in memory.
+fn a_500_value_sweep_stays_within_200_mb() {
+    // Each tile is written when it is done and the sheet made band by band: one row of tiles in memory. (Mesa
+    // 22's lavapipe had kept 0.7 MB a sphere's image while the sphere's shader looped over a uniform: see
+    // shaders/forward_sphere.frag.)
     let folder = temp_dir();
     let sheet = folder.path().join("sheet.png");
     let values: Vec<String> = (0..500).map(|i| format!("{:.3}", 0.001 + 0.002 * f64::from(i))).collect();
     let fig1 = root().join("assets/scenes/fig1-lambert.toml");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
-        .args(["sweep", fig1.to_str().unwrap(), "--param", "material.grey.kd", "--values", &values.join(",")])
-        .args(["-o", sheet.to_str().unwrap()])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    // The peak resident size so far (VmHWM), read until the process exits.
-    let status = format!("/proc/{}/status", child.id());
-    let mut peak_kb = 0u64;
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
-    while child.try_wait().unwrap().is_none() {
-        assert!(std::time::Instant::now() < deadline, "the sweep hung");
-        let hwm = std::fs::read_to_string(&status).ok().and_then(|s| {
-            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse().ok())
-        });
-        peak_kb = peak_kb.max(hwm.unwrap_or(0));
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    let output = child.wait_with_output().unwrap();
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let values = values.join(",");
+    let args = ["sweep", fig1.to_str().unwrap(), "--param", "material.grey.kd", "--values", &values];
+    let (peak, _) = common::peak_resident_mb(&[&args[..], &["-o", sheet.to_str().unwrap()]].concat());
     assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 501, "500 tiles and the sheet");
-    eprintln!("500-value sweep: peak resident size {} MB", peak_kb / 1024);
-    assert!(peak_kb > 0 && peak_kb < 300 * 1024, "peak resident size {} MB", peak_kb / 1024);
+    eprintln!("500-value sweep: peak resident size {peak} MB");
+    assert!(peak < 200, "peak resident size {peak} MB");
 }
 
 #[test]

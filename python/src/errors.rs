@@ -32,7 +32,8 @@ pub fn to_py(py: Python<'_>, error: Error) -> PyErr {
         | Error::Vulkan(_)
         | Error::Allocation(_)
         | Error::Validation(_)
-        | Error::Shader { .. } => "DeviceError",
+        | Error::Shader { .. }
+        | Error::Timeout { .. } => "DeviceError",
         Error::Input { .. } | Error::Output { .. } | Error::Preview(_) => "Error",
     };
     exception(py, class, error.to_string())

@@ -44,17 +44,23 @@ struct PyRenderer {
 }
 
 impl PyRenderer {
-    /// Runs `work` on this renderer, detached from the GIL (see `errors::detached`).
+    /// Runs `work` on this renderer, detached from the GIL (see `errors::detached`); where an analytic model
+    /// gave NaN, an infinity or a negative value, a SceneWarning says so, as `vk-render` prints it.
     fn with<T: Send>(
         &self,
         py: Python<'_>,
         work: impl FnOnce(&mut Renderer) -> vk_render::Result<T> + Send,
     ) -> PyResult<T> {
-        detached(py, || {
+        let mut invalid = None;
+        let result = detached(py, || {
             // A panic in an earlier call poisoned the lock; the renderer itself is whole between calls.
             let mut renderer = self.renderer.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-            work(&mut renderer)
-        })
+            let result = work(&mut renderer);
+            invalid = renderer.take_invalid_values();
+            result
+        });
+        errors::warn(py, invalid.iter().map(ToString::to_string).collect())?;
+        result
     }
 }
 
@@ -149,10 +155,16 @@ fn rows_of_three<'py>(py: Python<'py>, values: &[Vec3]) -> PyResult<Bound<'py, P
 #[pymethods]
 impl PyRenderer {
     #[new]
-    #[pyo3(signature = (device = None, validate = false))]
-    fn new(py: Python<'_>, device: Option<&Bound<'_, PyAny>>, validate: bool) -> PyResult<Self> {
+    #[pyo3(signature = (device = None, validate = false, timeout = None))]
+    fn new(py: Python<'_>, device: Option<&Bound<'_, PyAny>>, validate: bool, timeout: Option<f64>) -> PyResult<Self> {
         let device = device.map(|d| d.str().map(|s| s.to_string())).transpose()?;
-        let options = RendererOptions { device, validate, ..RendererOptions::default() };
+        let timeout = match timeout {
+            Some(seconds) if !(seconds.is_finite() && seconds > 0.0) => {
+                return Err(PyValueError::new_err(format!("timeout = {seconds}: a number of seconds above 0")))
+            }
+            seconds => seconds.map(std::time::Duration::from_secs_f64),
+        };
+        let options = RendererOptions { device, validate, timeout, ..RendererOptions::default() };
         let renderer = detached(py, || Renderer::new(options))?;
         let name = renderer.device_info().name.clone();
         Ok(Self { renderer: Mutex::new(renderer), device: name })
@@ -448,6 +460,11 @@ fn brdf_mirror<'py>(
     wo: PyReadonlyArray2<'py, f32>,
 ) -> PyResult<Bound<'py, PyArray2<f32>>> {
     let cases = probe_cases(py, material, &wi, &wo)?;
+    if cases.first().is_some_and(|c| !c.brdf.has_mirror()) {
+        return Err(PyValueError::new_err(
+            "material: this .brdf file has no Rust mirror (only the models shipped in assets/brdfs/ do, unchanged)",
+        ));
+    }
     let values: Vec<Vec3> = cases.iter().map(|c| c.brdf.eval(c.n, c.wi, c.wo)).collect();
     rows_of_three(py, &values)
 }

@@ -5,6 +5,7 @@ import os
 import subprocess
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import vk_render
@@ -41,3 +42,12 @@ def validating_default(monkeypatch):
 def in_root(monkeypatch):
     """Runs the test from the repository's root (relative scene paths, as the README's examples)."""
     monkeypatch.chdir(ROOT)
+
+
+def hemisphere(count, seed):
+    """Random unit directions above the surface (z > 0.05)."""
+    rng = np.random.default_rng(seed)
+    v = rng.normal(size=(count * 3, 3))
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    v[:, 2] = np.abs(v[:, 2])
+    return v[v[:, 2] > 0.05][:count].astype(np.float32)

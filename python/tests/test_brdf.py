@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import vk_render
-from conftest import FIG1, ROOT, cli
+from conftest import FIG1, ROOT, cli, hemisphere
 
 MATERIALS = {
     "lambert": {"brdf": "lambert", "kd": [0.5, 0.25, 0.125]},
@@ -17,15 +17,6 @@ MATERIALS = {
     "cook-torrance": {"brdf": "cook-torrance", "kd": [0.9, 0.5, 0.3], "f0": [1.0, 0.85, 0.57], "roughness": 0.35,
                       "metalness": 0.5},
 }
-
-
-def hemisphere(count, seed):
-    """Random unit directions above the surface (z > 0.05)."""
-    rng = np.random.default_rng(seed)
-    v = rng.normal(size=(count * 3, 3))
-    v /= np.linalg.norm(v, axis=1, keepdims=True)
-    v[:, 2] = np.abs(v[:, 2])
-    return v[v[:, 2] > 0.05][:count].astype(np.float32)
 
 
 @pytest.mark.parametrize("name", MATERIALS)

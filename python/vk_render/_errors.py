@@ -15,4 +15,5 @@ class DeviceError(Error, RuntimeError):
 
 class SceneWarning(UserWarning):
     """What is legal in a scene but probably not meant (no object, no light, a term view some objects cannot
-    show): the warnings `vk-render` prints, issued through Python's warnings module when a scene renders."""
+    show), and where a .brdf file's BRDF gave NaN, an infinity or a negative value: the warnings `vk-render`
+    prints, issued through Python's warnings module when a scene renders or a material is studied."""

@@ -80,7 +80,9 @@ class CheckReport(TypedDict):
 class Renderer:
     """A Vulkan device with vk-render's shaders, pipelines and meshes kept between calls."""
 
-    def __init__(self, device: Union[int, str, None] = None, validate: bool = False) -> None: ...
+    def __init__(
+        self, device: Union[int, str, None] = None, validate: bool = False, timeout: Optional[float] = None
+    ) -> None: ...
     @property
     def device(self) -> str:
         """The name of the Vulkan device this renderer draws with."""

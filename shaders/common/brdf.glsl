@@ -9,6 +9,10 @@
 // plane shaded in 22 ms instead of 17 at 600 x 400 x 4). The probe passes fix it too, one pipeline per BRDF
 // (src/render/probe.rs): compiled with every case live, their one pipeline took 1.6 s to build instead of
 // 0.7 once the measured lookup was among them.
+//
+// An analytic model (a user's .brdf file, src/brdf/analytic/) is compiled in only where ANALYTIC_BRDF is
+// defined, at run time, with brdf/analytic.glsl made from the file: one compilation per file and entry
+// shader, its pipelines specialized to BRDF_ANALYTIC. The shaders compiled at build time do not have it.
 
 #include "common/material.glsl"
 #include "brdf/lambert.glsl"
@@ -17,6 +21,9 @@
 #include "brdf/blinn_phong.glsl"
 #include "brdf/cook_torrance.glsl"
 #include "brdf/measured.glsl"
+#ifdef ANALYTIC_BRDF
+#include "common/analytic.glsl"
+#endif
 
 const uint BRDF_LAMBERT = 0u;
 const uint BRDF_OREN_NAYAR = 1u;
@@ -24,6 +31,7 @@ const uint BRDF_PHONG = 2u;
 const uint BRDF_BLINN_PHONG = 3u;
 const uint BRDF_COOK_TORRANCE = 4u;
 const uint BRDF_MEASURED = 5u;
+const uint BRDF_ANALYTIC = 6u;
 const uint BRDF_FROM_MATERIAL = 0xFFFFFFFFu;
 
 layout(constant_id = 0) const uint BRDF_SPECIALIZED = BRDF_FROM_MATERIAL;
@@ -34,10 +42,27 @@ layout(constant_id = 3) const uint DIFFUSE_SPECIALIZED = BRDF_FROM_MATERIAL;
 // pipeline is built.
 uint brdf_id(Material m) { return BRDF_SPECIALIZED == BRDF_FROM_MATERIAL ? m.brdf : BRDF_SPECIALIZED; }
 
-// f_r(wi, wo) at a surface with unit normal n, without the cosine; wi and wo point away from the surface.
-// Mirrors Brdf::eval in src/brdf/mod.rs. Reflection only: zero when wi or wo is at or below the horizon;
-// every model relies on this check, made here once.
-vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {
+// The tangent of a surface of unit normal n whose shape gives none (spheres, meshes without texture
+// coordinates, the probe's frame): BRDF Explorer's lit sphere's, normalize(+y x n), which is +x on the
+// probe's frame n = +z; +x at the poles, where +y x n vanishes. Mirrors default_tangent in
+// src/brdf/analytic/mod.rs. Only an analytic model reads the tangent.
+vec3 default_tangent(vec3 n) {
+    vec3 t = vec3(n.z, 0.0, -n.x);  // +y x n
+    return dot(t, t) > 1e-12 ? normalize(t) : vec3(1.0, 0.0, 0.0);
+}
+
+// A plane's tangent: the world's +x projected on it; the world's +z for a plane facing +-x. Mirrors
+// plane_tangent in src/brdf/analytic/mod.rs.
+vec3 plane_tangent(vec3 n) {
+    vec3 along_x = vec3(1.0, 0.0, 0.0) - n * n.x;
+    return dot(along_x, along_x) > 1e-12 ? normalize(along_x) : normalize(vec3(0.0, 0.0, 1.0) - n * n.z);
+}
+
+// f_r(wi, wo) at a surface with unit normal n and unit tangent t (the frame X = t, Y = n x t, which only an
+// analytic model reads), without the cosine; wi and wo point away from the surface. Mirrors Brdf::eval in
+// src/brdf/mod.rs. Reflection only: zero when wi or wo is at or below the horizon; every model relies on
+// this check, made here once.
+vec3 brdf_eval(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
     if (dot(n, wi) <= 0.0 || dot(n, wo) <= 0.0) {
         return vec3(0.0);
     }
@@ -55,6 +80,10 @@ vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {
                                  DIFFUSE_SPECIALIZED == BRDF_FROM_MATERIAL ? m.diffuse : DIFFUSE_SPECIALIZED);
         case BRDF_MEASURED:
             return measured(m.measured, n, wi, wo);
+#ifdef ANALYTIC_BRDF
+        case BRDF_ANALYTIC:
+            return analytic_checked(m.analytic, n, t, wi, wo);
+#endif
         default:
             return vec3(0.0);
     }
@@ -62,10 +91,10 @@ vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {
 
 // The diffuse and the specular lobe of brdf_eval apart (they add up to it): Lambert and Oren-Nayar are all
 // diffuse; Phong and Blinn-Phong are Lambert plus their lobe; Cook-Torrance weighs its lobes by metalness; a
-// measurement is not split into lobes and counts whole as diffuse.
+// measurement or an analytic model is not split into lobes and counts whole as diffuse.
 // Mirror Brdf::eval_diffuse and Brdf::eval_specular in src/brdf/mod.rs; the diffuse and specular views show
 // what each reflects.
-vec3 brdf_eval_diffuse(Material m, vec3 n, vec3 wi, vec3 wo) {
+vec3 brdf_eval_diffuse(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
     if (dot(n, wi) <= 0.0 || dot(n, wo) <= 0.0) {
         return vec3(0.0);
     }
@@ -76,7 +105,8 @@ vec3 brdf_eval_diffuse(Material m, vec3 n, vec3 wi, vec3 wo) {
             return (1.0 - m.metalness) * (m.diffuse == DIFFUSE_LAMBERT ? lambert(m.kd.rgb)
                                                                         : oren_nayar(n, wi, wo, m.kd.rgb, m.roughness));
         case BRDF_MEASURED:
-            return measured(m.measured, n, wi, wo);
+        case BRDF_ANALYTIC:
+            return brdf_eval(m, n, t, wi, wo);
         default:
             return lambert(m.kd.rgb);
     }

@@ -23,9 +23,18 @@
 layout(set = 0, binding = 6) uniform sampler2DArray environment_prefiltered;
 const float PREFILTERED_LOBES = 11.0;
 
-// The sampling table (src/environment/sampling.rs): the marginal over rows (height + 1 values), then each
-// row's conditional over its columns (width + 1 values each).
-layout(set = 0, binding = 7, std430) readonly buffer EnvironmentSampling { float environment_cdf[]; };
+// The sampling table (src/environment/sampling.rs, src/render/environment.rs): its width and height ((0, 0)
+// for a constant environment, which is not importance-sampled) and the samples a pass of the exact mode takes,
+// then the marginal over rows (height + 1 values), then each row's conditional over its columns (width + 1
+// values each). The sizes and the count bound loops: they are read here rather than from the frame's uniform
+// buffer (see common/scene.glsl), and are not constants either: with the count known when the shader is
+// compiled, its loops unrolled into code that ran 16% slower on lavapipe.
+layout(set = 0, binding = 7, std430) readonly buffer EnvironmentSampling {
+    uvec2 sampling_size;
+    uint samples_per_pass;
+    uint sampling_pad;
+    float environment_cdf[];
+};
 
 struct AlbedoEntry {
     vec4 diffuse;   // rgb: the diffuse lobe's directional albedo
@@ -36,16 +45,16 @@ layout(set = 0, binding = 8, std430) readonly buffer EnvironmentAlbedo { AlbedoE
 const uint ALBEDO_TABLE_SIZE = 32u;
 
 // The f_r the view integrates.
-vec3 view_brdf(Material m, vec3 n, vec3 wi, vec3 wo) {
+vec3 view_brdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
 #ifdef TERM_VIEWS
     if (VIEW == VIEW_DIFFUSE) {
-        return brdf_eval_diffuse(m, n, wi, wo);
+        return brdf_eval_diffuse(m, n, t, wi, wo);
     }
     if (VIEW == VIEW_SPECULAR) {
         return brdf_eval_specular(m, n, wi, wo);
     }
 #endif
-    return brdf_eval(m, n, wi, wo);
+    return brdf_eval(m, n, t, wi, wo);
 }
 
 // The last i in [0, count) with cdf[offset + i] <= u.
@@ -64,14 +73,14 @@ uint cdf_interval(uint offset, uint count, float u) {
 
 // The probability of the sampling table's cell (i, j).
 float cell_probability(uint i, uint j) {
-    uvec2 size = frame.environment_sampling.xy;
+    uvec2 size = sampling_size;
     uint row = size.y + 1u + j * (size.x + 1u);
     return (environment_cdf[j + 1u] - environment_cdf[j]) * (environment_cdf[row + i + 1u] - environment_cdf[row + i]);
 }
 
 // A world direction drawn in proportion to the table: a row, a column in it, then uniformly in (u, v).
 vec3 environment_sample(vec2 u) {
-    uvec2 size = frame.environment_sampling.xy;
+    uvec2 size = sampling_size;
     uint j = cdf_interval(0u, size.y, u.x);
     float row_low = environment_cdf[j], row_high = environment_cdf[j + 1u];
     float v = (float(j) + clamp((u.x - row_low) / max(row_high - row_low, 1e-30), 0.0, 1.0)) / float(size.y);
@@ -85,7 +94,7 @@ vec3 environment_sample(vec2 u) {
 // The density of environment_sample drawing world direction d: uniform over its cell in (u, v), whose solid
 // angle is 2 pi^2 sin(theta) du dv.
 float environment_pdf(vec3 d) {
-    uvec2 size = frame.environment_sampling.xy;
+    uvec2 size = sampling_size;
     vec3 m = to_map(d);
     vec2 uv = map_uv(m);
     uint i = min(uint(uv.x * float(size.x)), size.x - 1u);
@@ -98,15 +107,15 @@ float environment_pdf(vec3 d) {
 // taking a fixed share of them (the multi-sample balance heuristic: choosing a strategy at random per
 // sample would add the variance of the choice), from the start of its sequence, randomly shifted for the
 // pass: passes are independent, so the spread of their means is the error of their mean.
-vec3 environment_exact(Material m, vec3 n, vec3 wo) {
-    uint count = frame.environment_sampling.w;
+vec3 environment_exact(Material m, vec3 n, vec3 t, vec3 wo) {
+    uint count = samples_per_pass;
     uint lobe_count = has_lobe(m) ? (count * 7u) / 16u : 0u;
     // The environment takes half of what a diffuse material samples, 5/16 beside a lobe (7/16).
-    uint environment_count = frame.environment_sampling.x == 0u ? 0u : (lobe_count > 0u ? (count * 5u) / 16u : count / 2u);
+    uint environment_count = sampling_size.x == 0u ? 0u : (lobe_count > 0u ? (count * 5u) / 16u : count / 2u);
     uint cosine_count = count - lobe_count - environment_count;
     vec3 shares = vec3(cosine_count, lobe_count, environment_count) / float(count);
     uvec2 pixel = uvec2(gl_FragCoord.xy);
-    uint pass_index = frame.environment_sampling.z / count;
+    uint pass_index = frame.environment_first_sample / count;
     uint counts[3] = uint[](cosine_count, lobe_count, environment_count);
     vec3 sum = vec3(0.0);
     for (uint strategy = 0u; strategy < 3u; ++strategy) {
@@ -126,7 +135,7 @@ vec3 environment_exact(Material m, vec3 n, vec3 wo) {
                 pdf += shares.z * environment_pdf(wi);
             }
             if (pdf > 0.0) {
-                sum += environment_radiance(wi) * view_brdf(m, n, wi, wo) * (NoL / pdf);
+                sum += environment_radiance(wi) * view_brdf(m, n, t, wi, wo) * (NoL / pdf);
             }
         }
     }
@@ -189,9 +198,9 @@ vec3 environment_fast(Material m, vec3 n, vec3 wo, uint object_index) {
 }
 
 // The environment's light at a point of the object drawn, in the pipeline's mode.
-vec3 environment_light(Material m, vec3 n, vec3 wo) {
+vec3 environment_light(Material m, vec3 n, vec3 t, vec3 wo) {
     if (ENVIRONMENT == ENVIRONMENT_EXACT) {
-        return environment_exact(m, n, wo);
+        return environment_exact(m, n, t, wo);
     }
     if (ENVIRONMENT == ENVIRONMENT_FAST) {
         return environment_fast(m, n, wo, draw.object_index);

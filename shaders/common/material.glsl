@@ -15,7 +15,7 @@ struct Material {
     float metalness;
     uint diffuse;    // DIFFUSE_* under a Cook-Torrance lobe
     uint measured;   // under BRDF_MEASURED: the material's table in MeasuredTables (brdf/measured.glsl)
-    uint pad1;
+    uint analytic;   // under BRDF_ANALYTIC: its first value in analytic_parameters (common/analytic.glsl)
 };
 
 #endif

@@ -10,7 +10,11 @@ struct ObjectData {
     mat4 normal_matrix;  // inverse transpose of model (upper 3x3 used)
     Material material;
     uvec4 flags;         // x: two-sided (a plane has no inside: shade the side the camera sees)
+                         // y: the tangent's rule, TANGENT_DEFAULT or TANGENT_PLANE (common/brdf.glsl)
 };
+
+const uint TANGENT_DEFAULT = 0u;
+const uint TANGENT_PLANE = 1u;
 
 struct PointLight {
     vec4 position;   // xyz
@@ -19,6 +23,11 @@ struct PointLight {
                      // y: the faces of that cube the image needs, drawn (bit i: face i)
 };
 
+// No value of the frame decides control flow in a shader: Mesa 22's lavapipe inlines the values of a uniform
+// buffer that do (a loop over the sample count, the exact mode's sampling table's size) by compiling the
+// shader again each time the buffer changes, when that makes it much smaller, and keeps every copy: an
+// exact-mode image of 60 x 40 held 400 MB more once rendered, and a sweep 0.7 MB more an image. What steers
+// control flow is a specialization constant or comes from a storage buffer.
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_projection;
     // The camera's ray through framebuffer position (x, y), unnormalized: pixel_rays * vec4(x, y, 1, 0)
@@ -28,13 +37,12 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 camera_position;
     vec4 background;           // rgb, alpha 1: what no object covers
     float shadow_texel_angle;  // 2 / shadow_map_size: a texel's angle at the centre of a cube face
-    uint samples;              // MSAA samples per pixel, at Vulkan's standard sample locations
+    uint environment_first_sample;  // the exact mode: the first sample of this pass
+    uint pad0;
+    uint pad1;
     // The environment (common/environment_map.glsl): cos and sin of its rotation about +y, its intensity,
-    // and 1 where the background shows it.
+    // and 0.
     vec4 environment;
-    // The exact mode: the sampling table's width and height (0 for a constant environment, which is not
-    // importance-sampled), the first sample of this pass, and the samples a pass takes.
-    uvec4 environment_sampling;
 } frame;
 
 layout(set = 0, binding = 1, std430) readonly buffer Lights { PointLight lights[]; };
@@ -43,8 +51,11 @@ layout(set = 0, binding = 2, std430) readonly buffer Objects { ObjectData object
 layout(set = 0, binding = 3, std430) readonly buffer ShadowViews { mat4 shadow_views[]; };
 // Distance from each light to the nearest surface, one cube per shadow-casting light.
 layout(set = 0, binding = 4) uniform samplerCubeArray shadow_maps;
-// Bindings 5 to 8 are the environment's (common/environment.glsl); 9 holds the measured tables.
+// Bindings 5 to 8 are the environment's (common/environment.glsl); 9 holds the measured tables, 10 the
+// analytic materials' values and 11 the object's report of them (common/analytic.glsl).
 #define MEASURED_BINDING 9
+#define ANALYTIC_BINDING 10
+#define ANALYTIC_REPORT_BINDING 11
 
 // light_index and face: the light and the face of its shadow cube that the shadow pass draws (unused by
 // the forward pass).

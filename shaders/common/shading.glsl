@@ -108,6 +108,8 @@ vec3 pixel_value(ObjectData object, vec3 p, vec3 n) {
     if (VIEW == VIEW_NORMAL) {
         return n;
     }
+    // The tangent frame, which only an analytic model reads (and the compiler drops for the others).
+    vec3 t = object.flags.y == TANGENT_PLANE ? plane_tangent(n) : default_tangent(n);
     vec3 radiance = vec3(0.0);
     for (uint i = 0u; i < LIGHT_COUNT; ++i) {
         vec3 to_light = lights[i].position.xyz - p;
@@ -118,11 +120,11 @@ vec3 pixel_value(ObjectData object, vec3 p, vec3 n) {
             continue;  // the light is behind the surface
         }
         float visible = view_is_radiance() ? light_visibility(lights[i], p, NoL, sqrt(d2)) : 1.0;
-        radiance += light_view(object.material, n, wi, wo, lights[i].radiance.rgb / d2, NoL, visible);
+        radiance += light_view(object.material, n, t, wi, wo, lights[i].radiance.rgb / d2, NoL, visible);
     }
 #ifdef WITH_ENVIRONMENT
     if (ENVIRONMENT != ENVIRONMENT_NONE) {
-        radiance += environment_light(object.material, n, wo);
+        radiance += environment_light(object.material, n, t, wo);
     }
 #endif
     return radiance;

@@ -48,28 +48,28 @@ vec3 microfacet_term(Material m, vec3 n, vec3 wi, vec3 wo) {
 
 // What one light adds to the view at a point of normal n seen from wo: `incident` is the light's radiance
 // there unshadowed, `visible` the fraction the shadow lets through; n . wi = NoL > 0.
-vec3 light_view(Material m, vec3 n, vec3 wi, vec3 wo, vec3 incident, float NoL, float visible) {
+vec3 light_view(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo, vec3 incident, float NoL, float visible) {
     switch (VIEW) {
         case VIEW_N_DOT_L:
             return vec3(NoL);
         case VIEW_BRDF:
-            return brdf_eval(m, n, wi, wo);
+            return brdf_eval(m, n, t, wi, wo);
         case VIEW_D:
         case VIEW_G:
         case VIEW_F:
             return microfacet_term(m, n, wi, wo);
         case VIEW_DIFFUSE:
-            return brdf_eval_diffuse(m, n, wi, wo) * incident * (NoL * visible);
+            return brdf_eval_diffuse(m, n, t, wi, wo) * incident * (NoL * visible);
         case VIEW_SPECULAR:
             return brdf_eval_specular(m, n, wi, wo) * incident * (NoL * visible);
         default:
-            return brdf_eval(m, n, wi, wo) * incident * (NoL * visible);
+            return brdf_eval(m, n, t, wi, wo) * incident * (NoL * visible);
     }
 }
 #else
 // The radiance's variant: forward.rs builds the TERM_VIEWS variant for every other view.
-vec3 light_view(Material m, vec3 n, vec3 wi, vec3 wo, vec3 incident, float NoL, float visible) {
-    return brdf_eval(m, n, wi, wo) * incident * (NoL * visible);
+vec3 light_view(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo, vec3 incident, float NoL, float visible) {
+    return brdf_eval(m, n, t, wi, wo) * incident * (NoL * visible);
 }
 #endif
 

@@ -143,7 +143,7 @@ impl Family {
             Brdf::Lambert { kd } | Brdf::OrenNayar { kd, .. } => vec![kd],
             Brdf::Phong { kd, ks, .. } | Brdf::BlinnPhong { kd, ks, .. } => vec![kd, ks],
             Brdf::CookTorrance { kd, f0, metalness: m, .. } => vec![(1.0 - m) * kd, m * (Vec3::ONE - f0), m * f0],
-            Brdf::Measured(_) => Vec::new(),
+            Brdf::Measured(_) | Brdf::Analytic(_) => Vec::new(),
         }
     }
 
@@ -249,7 +249,7 @@ pub fn parameters(brdf: &Brdf) -> Vec<(&'static str, Vec<f32>)> {
         Brdf::CookTorrance { kd, f0, roughness, metalness, .. } => {
             vec![("kd", colour(kd)), ("f0", colour(f0)), ("roughness", vec![roughness]), ("metalness", vec![metalness])]
         }
-        Brdf::Measured(_) => Vec::new(),
+        Brdf::Measured(_) | Brdf::Analytic(_) => Vec::new(),
     }
 }
 

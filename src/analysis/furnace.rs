@@ -65,8 +65,8 @@ pub fn white_grid(brdf: &Brdf) -> Vec<Brdf> {
                 ROUGHNESS.map(|roughness| Brdf::CookTorrance { kd: white, f0: white, roughness, metalness, diffuse })
             })
             .collect(),
-        // A measurement has no parameter to vary.
-        Brdf::Measured(_) => Vec::new(),
+        // A measurement has no parameter to vary; an analytic model, no main parameter known to vk-render.
+        Brdf::Measured(_) | Brdf::Analytic(_) => Vec::new(),
     }
 }
 

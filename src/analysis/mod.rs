@@ -114,6 +114,7 @@ pub fn describe(brdf: &Brdf) -> String {
             "measured {}",
             table.path().file_name().map_or_else(|| table.path().display().to_string(), |f| f.to_string_lossy().into())
         ),
+        Brdf::Analytic(ref material) => material.describe(),
     }
 }
 

@@ -108,6 +108,19 @@ pub fn measured_coordinates(angles: Vec3) -> Vec3 {
     )
 }
 
+/// The directions (wi, wo) about n = +z at the centre of every entry, in the order of [`entry_index`].
+pub fn entry_directions() -> Vec<(Vec3, Vec3)> {
+    let mut directions = vec![(Vec3::ZERO, Vec3::ZERO); ENTRIES];
+    for theta_h in 0..THETA_H_BINS {
+        for theta_d in 0..THETA_D_BINS {
+            for phi_d in 0..PHI_D_BINS {
+                directions[entry_index(theta_h, theta_d, phi_d)] = directions_at(entry_angles(theta_h, theta_d, phi_d));
+            }
+        }
+    }
+    directions
+}
+
 /// The angles at entry (theta_h, theta_d, phi_d)'s centre: the inverse of [`measured_coordinates`].
 pub fn entry_angles(theta_h: usize, theta_d: usize, phi_d: usize) -> Vec3 {
     let u = (theta_h as f32 + 0.5) / THETA_H_BINS as f32;
@@ -173,17 +186,13 @@ impl MeasuredTable {
     /// A table of `f` at every entry's centre (wi and wo about +z from [`directions_at`]), to be written
     /// to `path`: an analytic model as if measured.
     pub fn tabulate(path: PathBuf, f: impl Fn(Vec3, Vec3) -> Vec3) -> Self {
-        let mut rgb = vec![0.0; 3 * ENTRIES];
-        for theta_h in 0..THETA_H_BINS {
-            for theta_d in 0..THETA_D_BINS {
-                for phi_d in 0..PHI_D_BINS {
-                    let (wi, wo) = directions_at(entry_angles(theta_h, theta_d, phi_d));
-                    let index = entry_index(theta_h, theta_d, phi_d);
-                    rgb[3 * index..3 * index + 3].copy_from_slice(&f(wi, wo).to_array());
-                }
-            }
-        }
-        Self { path, rgb }
+        let values: Vec<Vec3> = entry_directions().into_iter().map(|(wi, wo)| f(wi, wo)).collect();
+        Self::from_entries(path, &values)
+    }
+
+    /// The table whose entry of index i ([`entry_index`]) is `values[i]` (f_r at [`entry_directions`]`[i]`).
+    pub fn from_entries(path: PathBuf, values: &[Vec3]) -> Self {
+        Self { path, rgb: values.iter().flat_map(|v| v.to_array()).collect() }
     }
 
     /// The table as a MERL file's bytes, every value divided by its channel's scale.

@@ -4,6 +4,7 @@
 //! GLSL evaluated on the GPU can be checked term by term against this code. Every function returns
 //! f_r without the cosine: the caller multiplies by `n . wi` once.
 
+pub mod analytic;
 mod blinn_phong;
 mod cook_torrance;
 mod lambert;
@@ -15,6 +16,7 @@ mod tests;
 
 use glam::Vec3;
 
+pub use analytic::{default_tangent, plane_tangent, Analytic, AnalyticModel, ParameterKind, ParameterValue};
 pub use blinn_phong::{blinn_phong, blinn_phong_specular, half_vector};
 pub use cook_torrance::{
     cook_torrance, cook_torrance_specular, d_ggx, f_schlick, g_smith_schlick, smith_schlick_k, v_smith_schlick,
@@ -51,6 +53,8 @@ pub enum Brdf {
     CookTorrance { kd: Vec3, f0: Vec3, roughness: f32, metalness: f32, diffuse: DiffuseModel },
     /// A measured table (a MERL file, Matusik et al. 2003), interpolated: see [`measured`].
     Measured(Measured),
+    /// A user's model, BRDF Explorer's `.brdf` file, with a value for each of its parameters: see [`analytic`].
+    Analytic(Analytic),
 }
 
 impl Brdf {
@@ -63,6 +67,7 @@ impl Brdf {
             Brdf::BlinnPhong { .. } => "blinn-phong",
             Brdf::CookTorrance { .. } => "cook-torrance",
             Brdf::Measured(_) => "measured",
+            Brdf::Analytic(_) => "analytic",
         }
     }
 
@@ -71,7 +76,16 @@ impl Brdf {
     ///
     /// Reflection only: zero when wi or wo is at or below the horizon. Every model relies on this check,
     /// made here once: with both cosines positive, the half vector exists and no denominator vanishes.
+    ///
+    /// An analytic model is evaluated in the tangent frame the probe gives it ([`default_tangent`]), by its
+    /// Rust mirror: the shipped models of `assets/brdfs/` have one, any other file none, and gives NaN
+    /// ([`Brdf::has_mirror`] says which).
     pub fn eval(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+        self.eval_in_frame(n, default_tangent(n), wi, wo)
+    }
+
+    /// As [`Brdf::eval`], in the tangent frame X = `t`, Y = n x t (which only an analytic model reads).
+    pub fn eval_in_frame(&self, n: Vec3, t: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
             return Vec3::ZERO;
         }
@@ -84,12 +98,23 @@ impl Brdf {
                 cook_torrance(n, wi, wo, *kd, *f0, *roughness, *metalness, *diffuse)
             }
             Brdf::Measured(table) => table.eval(n, wi, wo),
+            Brdf::Analytic(material) => material.mirror_eval(n, t, wi, wo).unwrap_or(Vec3::NAN),
+        }
+    }
+
+    /// Whether [`Brdf::eval`] has a Rust mirror to evaluate: every built-in model and measurement, and the
+    /// analytic models shipped in `assets/brdfs/`.
+    pub fn has_mirror(&self) -> bool {
+        match self {
+            Brdf::Analytic(material) => material.has_mirror(),
+            _ => true,
         }
     }
 
     /// The diffuse lobe of [`Brdf::eval`] (with [`Brdf::eval_specular`] they add up to it): Lambert and
     /// Oren-Nayar are all diffuse, Phong and Blinn-Phong are Lambert plus their lobe, Cook-Torrance weighs
-    /// its lobes by metalness. A measurement is not split into lobes: it counts whole as diffuse. Mirrors `brdf_eval_diffuse` in `shaders/common/brdf.glsl`.
+    /// its lobes by metalness. A measurement or an analytic model is not split into lobes: it counts whole as
+    /// diffuse. Mirrors `brdf_eval_diffuse` in `shaders/common/brdf.glsl`.
     pub fn eval_diffuse(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
             return Vec3::ZERO;
@@ -97,6 +122,7 @@ impl Brdf {
         match *self {
             Brdf::OrenNayar { kd, sigma } => oren_nayar(n, wi, wo, kd, sigma),
             Brdf::Measured(ref table) => table.eval(n, wi, wo),
+            Brdf::Analytic(_) => self.eval(n, wi, wo),
             Brdf::CookTorrance { kd, roughness, metalness, diffuse, .. } => {
                 (1.0 - metalness)
                     * match diffuse {
@@ -109,10 +135,11 @@ impl Brdf {
     }
 
     /// The same material with its diffuse lobe taken out (kd = 0), so that [`Brdf::eval`] is its specular
-    /// lobe alone; `None` for the models that are all diffuse (a measurement counts as one).
+    /// lobe alone; `None` for the models that are all diffuse (a measurement and an analytic model count as
+    /// one).
     pub fn specular_only(&self) -> Option<Brdf> {
         match *self {
-            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } | Brdf::Measured(_) => None,
+            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } | Brdf::Measured(_) | Brdf::Analytic(_) => None,
             Brdf::Phong { ks, shininess, .. } => Some(Brdf::Phong { kd: Vec3::ZERO, ks, shininess }),
             Brdf::BlinnPhong { ks, shininess, .. } => Some(Brdf::BlinnPhong { kd: Vec3::ZERO, ks, shininess }),
             Brdf::CookTorrance { f0, roughness, metalness, diffuse, .. } => {
@@ -132,7 +159,7 @@ impl Brdf {
             Brdf::CookTorrance { f0, roughness, metalness, .. } => {
                 metalness * cook_torrance_specular(n, wi, wo, f0, roughness)
             }
-            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } | Brdf::Measured(_) => Vec3::ZERO,
+            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } | Brdf::Measured(_) | Brdf::Analytic(_) => Vec3::ZERO,
         }
     }
 }

@@ -195,7 +195,7 @@ pub const CATALOGUE: &[Mistake] = &[
         shows_on: ("fig5-golden-bunny", &["light.0.shadows=false", "light.1.shadows=false", "material.gold.metalness=0"]),
         variant: Variant::Shader(&[
             edit("common/shading.glsl", "        if (NoL <= 0.0) {\n            continue;  // the light is behind the surface\n        }\n", ""),
-            edit("common/brdf.glsl", "vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {\n    if (dot(n, wi) <= 0.0 || dot(n, wo) <= 0.0) {", "vec3 brdf_eval(Material m, vec3 n, vec3 wi, vec3 wo) {\n    if (dot(n, wo) <= 0.0) {"),
+            edit("common/brdf.glsl", "vec3 brdf_eval(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {\n    if (dot(n, wi) <= 0.0 || dot(n, wo) <= 0.0) {", "vec3 brdf_eval(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {\n    if (dot(n, wo) <= 0.0) {"),
         ]),
     },
     Mistake {

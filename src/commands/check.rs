@@ -78,7 +78,7 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
     ];
     overrides.extend(args.set.overrides.iter().cloned());
     let scene = scene_named(scene_name, &overrides)?;
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let bar = progress(CATALOGUE.len(), "rendering the mistakes");
     let checked = check_image(&mut renderer, &mine, &scene, |done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();

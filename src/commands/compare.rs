@@ -54,7 +54,7 @@ pub fn run(args: CompareArgs, options: RendererOptions) -> anyhow::Result<()> {
     }
     warn(&a);
     warn(&b);
-    let mut renderer = Renderer::for_scenes(options, &[&a, &b])?;
+    let mut renderer = super::CommandRenderer::new(Renderer::for_scenes(options, &[&a, &b])?);
     let (image_a, image_b) = (render_png_pixels(&mut renderer, &a)?, render_png_pixels(&mut renderer, &b)?);
     let difference = Difference::of(&image_a, &image_b);
     let stats = &difference.stats;

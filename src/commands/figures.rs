@@ -36,7 +36,7 @@ pub fn run(args: FiguresArgs, options: RendererOptions) -> anyhow::Result<()> {
     }
     // One device, one set of compiled shaders and pipelines for every image, the pipelines built first.
     let scenes: Vec<&Scene> = figures.iter().flat_map(|(_, tiles, _)| tiles.iter().map(|tile| &tile.scene)).collect();
-    let mut renderer = Renderer::for_scenes(options, &scenes)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::for_scenes(options, &scenes)?);
     let sheets: Vec<Sheet> = figures
         .iter()
         .map(|(figure, tiles, path)| Sheet {

@@ -99,7 +99,7 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
             anyhow::bail!("{}: the lobes are drawn as .png or .svg", output.display());
         }
     }
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let mut fits = Vec::new();
     for model in &models {
         fits.push((*model, fit_to(&mut renderer, &target.brdf, model, &args.theta_i)?));
@@ -272,7 +272,7 @@ fn run_folder(args: &FitArgs, folder: &Path, models: &[&str], options: RendererO
     if files.is_empty() {
         anyhow::bail!("{}: holds no MERL file (NAME.binary)", folder.display());
     }
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let mut table: Vec<(String, Vec<f64>)> = Vec::new();
     for file in &files {
         let name = file.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
@@ -349,7 +349,7 @@ fn run_image(
     let scene = Scene::load(scene_path, &args.set.overrides)?;
     let target = object_of(&scene, object)?;
     let image = read_image(image_path)?;
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let image = SceneImage::new(&scene, &image, image_path)?;
     let mut fits = Vec::new();
     for model in models {

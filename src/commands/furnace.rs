@@ -22,7 +22,7 @@ const HEADER: [&str; 6] = ["material", "model and parameters", "max albedo", "er
 pub fn run(args: FurnaceArgs, options: RendererOptions) -> anyhow::Result<()> {
     let materials = args.study.materials()?;
     let file = args.study.output_file()?;
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let bar = progress(0, "furnace");
     let rows = furnace(&mut renderer, &materials, ALBEDO_TOLERANCE, |done, total| {
         bar.set_length(total as u64);

@@ -78,6 +78,40 @@ impl ImageArgs {
     }
 }
 
+/// A command's renderer. When the command is done with it, one warning line says where an analytic model
+/// gave NaN, an infinity or a negative value, if one did (images count such values as 0; the plots show
+/// them as they are).
+pub struct CommandRenderer(Renderer);
+
+impl CommandRenderer {
+    /// Wraps a renderer made for the command.
+    pub fn new(renderer: Renderer) -> Self {
+        Self(renderer)
+    }
+}
+
+impl std::ops::Deref for CommandRenderer {
+    type Target = Renderer;
+
+    fn deref(&self) -> &Renderer {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for CommandRenderer {
+    fn deref_mut(&mut self) -> &mut Renderer {
+        &mut self.0
+    }
+}
+
+impl Drop for CommandRenderer {
+    fn drop(&mut self) {
+        if let Some(invalid) = self.0.take_invalid_values() {
+            eprintln!("warning: {invalid}");
+        }
+    }
+}
+
 /// Prints the scene's warnings on standard error.
 pub fn warn(scene: &Scene) {
     for warning in scene.warnings() {

@@ -153,7 +153,7 @@ fn lobe(args: LobeArgs, options: RendererOptions) -> anyhow::Result<()> {
     if !args.phi.is_finite() {
         anyhow::bail!("--phi {}: not a number of degrees", args.phi);
     }
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let brdfs: Vec<_> = materials.iter().map(|m| m.brdf.clone()).collect();
     let angles = lobe_angles();
     let cut = |theta_i| LobeCut { theta_i, phi: args.phi, cosine: !args.no_cosine };
@@ -204,7 +204,7 @@ fn lobe(args: LobeArgs, options: RendererOptions) -> anyhow::Result<()> {
 fn albedo(args: AlbedoArgs, options: RendererOptions) -> anyhow::Result<()> {
     let materials = args.study.materials()?;
     let file = args.study.output_file()?;
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let angles = albedo_angles();
     let radians: Vec<f64> = angles.iter().map(|a| a.to_radians()).collect();
     let mut curves = Vec::new();
@@ -261,7 +261,7 @@ fn slice(args: SliceArgs, options: RendererOptions) -> anyhow::Result<()> {
         anyhow::bail!("--phi-d {}: not a number of degrees", args.phi_d);
     }
     // A cell per pixel of a PNG panel; a cell per degree in a CSV, and in an SVG (a rectangle each).
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let brdfs: Vec<_> = materials.iter().map(|m| m.brdf.clone()).collect();
     let csv = slice_table(&materials, &slices(&mut renderer, &brdfs, args.phi_d, CSV_CELLS)?);
     if file == StudyFile::Csv {
@@ -346,7 +346,7 @@ fn lobe3d(args: Lobe3dArgs, options: RendererOptions) -> anyhow::Result<()> {
     if !(16..=4096).contains(&width) || !(16..=4096).contains(&height) {
         anyhow::bail!("--size {width},{height}: each side is from 16 to 4096 pixels");
     }
-    let mut renderer = Renderer::new(options)?;
+    let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let from = Viewpoint { elevation, azimuth };
     let mut panels = Vec::new();
     for material in &materials {

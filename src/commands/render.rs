@@ -37,7 +37,7 @@ pub fn run(args: RenderArgs, mut options: RendererOptions) -> anyhow::Result<()>
         options.shaders = ShaderSources::from_directory(folder)
             .map_err(|e| anyhow::anyhow!("--shaders {}: cannot read the shaders: {e}", folder.display()))?;
     }
-    let mut renderer = Renderer::for_scenes(options, &[&scene])?;
+    let mut renderer = super::CommandRenderer::new(Renderer::for_scenes(options, &[&scene])?);
     match OutputFormat::for_path(&args.output)? {
         OutputFormat::Png => write_png(&render_png_pixels(&mut renderer, &scene)?, &args.output)?,
         OutputFormat::Exr => {

@@ -150,10 +150,14 @@ pub fn run(args: SweepArgs, options: RendererOptions) -> anyhow::Result<()> {
     }
     let scenes: Vec<&Scene> = tiles.iter().filter(|tile| !tile.on_disk).map(|tile| &tile.scene).collect();
     // No device is opened when every tile is kept.
-    let mut renderer = if scenes.is_empty() { None } else { Some(Renderer::for_scenes(options, &scenes)?) };
+    let mut renderer = if scenes.is_empty() {
+        None
+    } else {
+        Some(super::CommandRenderer::new(Renderer::for_scenes(options, &scenes)?))
+    };
     let path = (shard.n == 1).then_some(args.grid.output.as_path());
     let sheet = Sheet { title: &plan.title, tiles: &tiles, arrangement: plan.arrangement, path };
-    render_sheets(renderer.as_mut(), &[sheet])?;
+    render_sheets(renderer.as_deref_mut(), &[sheet])?;
     if shard.n > 1 {
         let rendered = tiles.iter().filter(|tile| !tile.on_disk).count();
         println!(

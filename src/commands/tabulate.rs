@@ -1,5 +1,6 @@
 //! `vk-render tabulate`: a material written as a MERL file, as if measured (its Rust mirror evaluated at the
-//! centre of every entry), to load as `brdf = "measured"` or into any tool that reads MERL files.
+//! centre of every entry; a .brdf file's own GLSL, on the GPU), to load as `brdf = "measured"` or into any
+//! tool that reads MERL files.
 
 use std::path::PathBuf;
 
@@ -7,9 +8,10 @@ use clap::Args;
 
 use super::SetArgs;
 use vk_render::analysis::{describe, select_materials};
-use vk_render::brdf::measured::FILE_BYTES;
-use vk_render::brdf::MeasuredTable;
-use vk_render::Scene;
+use vk_render::brdf::measured::{entry_directions, FILE_BYTES};
+use vk_render::brdf::{Brdf, MeasuredTable};
+use vk_render::render::ProbeCase;
+use vk_render::{Renderer, RendererOptions, Scene};
 
 #[derive(Args)]
 pub struct TabulateArgs {
@@ -28,11 +30,22 @@ pub struct TabulateArgs {
     set: SetArgs,
 }
 
-/// Tabulates the material and writes the file.
-pub fn run(args: TabulateArgs) -> anyhow::Result<()> {
+/// Tabulates the material and writes the file: a built-in model by its Rust mirror, with no device; a .brdf
+/// file by the probe pass (its GLSL as the renders run it).
+pub fn run(args: TabulateArgs, options: RendererOptions) -> anyhow::Result<()> {
     let scene = Scene::load(&args.scene, &args.set.overrides)?;
     let target = select_materials(&scene, Some(std::slice::from_ref(&args.material)))?.remove(0);
-    let table = MeasuredTable::tabulate(args.output.clone(), |wi, wo| target.brdf.eval(glam::Vec3::Z, wi, wo));
+    let table = match &target.brdf {
+        Brdf::Analytic(_) => {
+            let cases: Vec<ProbeCase> = entry_directions()
+                .into_iter()
+                .map(|(wi, wo)| ProbeCase { brdf: target.brdf.clone(), n: glam::Vec3::Z, wi, wo })
+                .collect();
+            let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
+            MeasuredTable::from_entries(args.output.clone(), &renderer.probe_brdfs(&cases)?)
+        }
+        brdf => MeasuredTable::tabulate(args.output.clone(), |wi, wo| brdf.eval(glam::Vec3::Z, wi, wo)),
+    };
     vk_render::output::write_file(&args.output, &table.to_bytes())?;
     println!("{} ({}) tabulated: {} ({FILE_BYTES} bytes)", target.name, describe(&target.brdf), args.output.display());
     Ok(())

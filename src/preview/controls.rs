@@ -3,7 +3,7 @@
 use glam::Vec3;
 use winit::keyboard::{Key, NamedKey};
 
-use crate::brdf::{Brdf, DiffuseModel};
+use crate::brdf::{Analytic, Brdf, DiffuseModel, ParameterKind, ParameterValue};
 use crate::scene::{Camera, Scene};
 
 /// One user action.
@@ -13,9 +13,11 @@ pub enum Action {
     NextObject,
     /// 1 to 5: give the selected object this BRDF (0 lambert .. 4 cook-torrance).
     SetBrdf(usize),
-    /// Up / Down: raise or lower the BRDF's main parameter (sigma, shininess or roughness).
+    /// Up / Down: raise or lower the BRDF's main parameter (sigma, shininess or roughness), or a .brdf
+    /// file's selected float parameter.
     MainParameter(i32),
-    /// Left / Right: lower or raise the metalness of a Cook-Torrance material.
+    /// Left / Right: lower or raise the metalness of a Cook-Torrance material, or select a .brdf file's
+    /// previous or next float parameter.
     Metalness(i32),
     /// L: turn every light's shadows off, or back to the scene's.
     ToggleShadows,
@@ -158,19 +160,31 @@ pub struct Controls {
     scene_shadows: Option<Vec<bool>>,
     /// Whether the selected object's lobe is shown (B).
     pub show_lobe: bool,
+    /// Which float parameter of a .brdf file Up and Down step (Left and Right choose), counted among its
+    /// float parameters.
+    pub analytic_parameter: usize,
 }
 
 impl Controls {
     /// Controls starting on the scene's own camera.
     pub fn new(scene: &Scene) -> Self {
-        Self { selected: 0, orbit: Orbit::from_camera(&scene.camera), scene_shadows: None, show_lobe: false }
+        Self {
+            selected: 0,
+            orbit: Orbit::from_camera(&scene.camera),
+            scene_shadows: None,
+            show_lobe: false,
+            analytic_parameter: 0,
+        }
     }
 
     /// Applies an action to the scene (actions that are not about the scene do nothing here).
     pub fn apply(&mut self, action: Action, scene: &mut Scene, original_camera: &Camera) {
         let count = scene.objects.len();
         match action {
-            Action::NextObject if count > 0 => self.selected = (self.selected + 1) % count,
+            Action::NextObject if count > 0 => {
+                self.selected = (self.selected + 1) % count;
+                self.analytic_parameter = 0;
+            }
             Action::SetBrdf(index) => {
                 if let Some(object) = scene.objects.get_mut(self.selected) {
                     object.brdf = switch_brdf(&object.brdf, index);
@@ -178,11 +192,21 @@ impl Controls {
             }
             Action::MainParameter(step) => {
                 if let Some(object) = scene.objects.get_mut(self.selected) {
-                    object.brdf = change_main_parameter(object.brdf.clone(), step);
+                    object.brdf = match &object.brdf {
+                        Brdf::Analytic(material) => Brdf::Analytic(step_float(material, self.analytic_parameter, step)),
+                        other => change_main_parameter(other.clone(), step),
+                    };
                 }
             }
             Action::Metalness(step) => {
                 if let Some(object) = scene.objects.get_mut(self.selected) {
+                    if let Brdf::Analytic(material) = &object.brdf {
+                        let floats = float_parameters(material).len();
+                        if floats > 0 {
+                            self.analytic_parameter =
+                                (self.analytic_parameter as i64 + i64::from(step)).rem_euclid(floats as i64) as usize;
+                        }
+                    }
                     if let Brdf::CookTorrance { ref mut metalness, .. } = object.brdf {
                         *metalness = (*metalness + 0.1 * step as f32).clamp(0.0, 1.0);
                     }
@@ -214,9 +238,54 @@ impl Controls {
             self.selected + 1,
             scene.objects.len(),
             object.material,
-            describe(&object.brdf)
+            match &object.brdf {
+                Brdf::Analytic(material) => describe_selected(material, self.analytic_parameter),
+                other => describe(other),
+            }
         )
     }
+}
+
+/// The names of a .brdf file's float parameters, the ones the keys step, in the file's order.
+fn float_parameters(material: &Analytic) -> Vec<String> {
+    material
+        .values()
+        .filter(|(p, _)| matches!(p.kind, ParameterKind::Float { .. }))
+        .map(|(p, _)| p.name.clone())
+        .collect()
+}
+
+/// `material` with its `index`-th float parameter moved by `step` twentieths of its range, within the range.
+fn step_float(material: &Analytic, index: usize, step: i32) -> Analytic {
+    let names = float_parameters(material);
+    let Some(name) = names.get(index) else { return material.clone() };
+    let (Some(parameter), Some(ParameterValue::Float(value))) =
+        (material.model().parameter(name), material.value(name))
+    else {
+        return material.clone();
+    };
+    let ParameterKind::Float { min, max, .. } = parameter.kind else { return material.clone() };
+    let moved = (value + (max - min) / 20.0 * step as f32).clamp(min, max);
+    material.clone().with(name, ParameterValue::Float(moved)).unwrap_or_else(|_| material.clone())
+}
+
+/// A .brdf material's file and float parameters, the one the keys step in brackets:
+/// `ward.brdf [alpha_x 0.10] alpha_y 0.35 (Up/Down step it, Left/Right choose)`.
+fn describe_selected(material: &Analytic, index: usize) -> String {
+    let names = float_parameters(material);
+    let mut text = material.model().name();
+    for (i, name) in names.iter().enumerate() {
+        let Some(ParameterValue::Float(value)) = material.value(name) else { continue };
+        if i == index {
+            text.push_str(&format!(" [{name} {value:.3}]"));
+        } else {
+            text.push_str(&format!(" {name} {value:.3}"));
+        }
+    }
+    if !names.is_empty() {
+        text.push_str(" (Up/Down step it, Left/Right choose)");
+    }
+    text
 }
 
 /// The BRDF's name and parameters, e.g. "oren-nayar sigma 0.30".
@@ -229,7 +298,7 @@ pub fn describe(brdf: &Brdf) -> String {
         Brdf::CookTorrance { roughness, metalness, .. } => {
             format!("cook-torrance roughness {roughness:.2} metalness {metalness:.1}")
         }
-        Brdf::Measured(_) => crate::analysis::describe(brdf),
+        Brdf::Measured(_) | Brdf::Analytic(_) => crate::analysis::describe(brdf),
     }
 }
 
@@ -247,6 +316,14 @@ fn diffuse_colour(brdf: &Brdf) -> Vec3 {
             let (wi, wo) = (Vec3::new(0.866, 0.0, 0.5), Vec3::new(0.0, 0.866, 0.5));
             (std::f32::consts::PI * table.eval(Vec3::Z, wi, wo)).clamp(Vec3::ZERO, Vec3::ONE)
         }
+        // The file's first colour, which is most often its diffuse one; a grey where it has none.
+        Brdf::Analytic(ref material) => material
+            .values()
+            .find_map(|(_, value)| match value {
+                crate::brdf::ParameterValue::Color(c) => Some(c.clamp(Vec3::ZERO, Vec3::ONE)),
+                _ => None,
+            })
+            .unwrap_or(Vec3::splat(0.5)),
     }
 }
 
@@ -286,7 +363,7 @@ pub fn change_main_parameter(brdf: Brdf, step: i32) -> Brdf {
             diffuse,
         },
         // No parameter to change.
-        unchanged @ (Brdf::Lambert { .. } | Brdf::Measured(_)) => unchanged,
+        unchanged @ (Brdf::Lambert { .. } | Brdf::Measured(_) | Brdf::Analytic(_)) => unchanged,
     }
 }
 
@@ -317,6 +394,41 @@ mod tests {
     fn figure_1() -> Scene {
         let text = include_str!("../../assets/scenes/fig1-lambert.toml");
         Scene::parse(text, Path::new("fig1.toml"), &[]).unwrap()
+    }
+
+    #[test]
+    fn up_and_down_step_a_brdf_files_chosen_float_parameter_within_its_range() {
+        let ward = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brdfs/ward.brdf");
+        let text = format!(
+            "[material.m]\nbrdf = \"analytic\"\nfile = {:?}\nparams = {{ alpha_x = 0.96 }}\n[[object]]\nshape = \
+             \"sphere\"\ncenter = [0, 0, 3]\nradius = 1.0\nmaterial = \"m\"\n",
+            ward.display().to_string()
+        );
+        let mut scene = Scene::parse(&text, Path::new("ward.toml"), &[]).unwrap();
+        let camera = scene.camera;
+        let mut controls = Controls::new(&scene);
+        let value = |scene: &Scene, name: &str| match &scene.objects[0].brdf {
+            Brdf::Analytic(m) => match m.value(name) {
+                Some(ParameterValue::Float(v)) => v,
+                other => panic!("{name}: {other:?}"),
+            },
+            _ => panic!("not analytic"),
+        };
+        // alpha_x's range is [0.01, 1]: a step is 0.0495, and the top of the range holds.
+        controls.apply(Action::MainParameter(1), &mut scene, &camera);
+        assert_eq!(value(&scene, "alpha_x"), 1.0);
+        controls.apply(Action::MainParameter(-1), &mut scene, &camera);
+        assert!((value(&scene, "alpha_x") - (1.0 - 0.0495)).abs() < 1e-6);
+        // Right chooses the next float parameter, alpha_y (the colours are not stepped).
+        controls.apply(Action::Metalness(1), &mut scene, &camera);
+        controls.apply(Action::MainParameter(-1), &mut scene, &camera);
+        assert!((value(&scene, "alpha_y") - (0.15 - 0.0495)).abs() < 1e-6);
+        let title = controls.title(&scene, 1.0);
+        assert!(title.contains("ward.brdf alpha_x 0.95") && title.contains(" [alpha_y 0.10"), "{title}");
+        // Left from the first wraps round to the last.
+        controls.apply(Action::Metalness(-1), &mut scene, &camera);
+        controls.apply(Action::Metalness(-1), &mut scene, &camera);
+        assert_eq!(controls.analytic_parameter, 1);
     }
 
     #[test]

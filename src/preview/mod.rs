@@ -281,6 +281,8 @@ impl Running {
         let surface = Arc::new(Surface::new(&instance, display, window_handle)?);
         let renderer = Renderer::on_instance(instance, renderer_options, Some((&surface.loader, surface.raw)))?;
         let controls = Controls::new(&scene);
+        let mut watched = Watched::new(&options.scene, options.shaders.clone());
+        watched.watch_brdfs(&scene);
         Ok(Self {
             swapchain: None,
             upload: None,
@@ -301,7 +303,7 @@ impl Running {
             screenshots_saved: 0,
             scene_path: options.scene.clone(),
             overrides: options.overrides.clone(),
-            watched: Watched::new(&options.scene, options.shaders.clone()),
+            watched,
             window,
             lobe: None,
             frames: refine::Frames::default(),
@@ -343,6 +345,7 @@ impl Running {
             match Scene::load(&self.scene_path, &self.overrides) {
                 Ok(scene) => {
                     log::info!("reloaded {}", self.scene_path.display());
+                    self.watched.watch_brdfs(&scene);
                     self.original_camera = scene.camera;
                     self.scene = scene;
                     self.controls.selected = self.controls.selected.min(self.scene.objects.len().saturating_sub(1));
@@ -471,15 +474,23 @@ impl Running {
             None => None,
         };
 
+        // The presentation engine has the device's timeout to hand an image over, as every wait does.
+        let timeout = u64::try_from(device.timeout().as_nanos()).unwrap_or(u64::MAX);
         // SAFETY: the swapchain and its semaphore are alive.
         let acquired = unsafe {
-            swapchain.loader.acquire_next_image(swapchain.raw, u64::MAX, swapchain.acquired, vk::Fence::null())
+            swapchain.loader.acquire_next_image(swapchain.raw, timeout, swapchain.acquired, vk::Fence::null())
         };
         let index = match acquired {
             Ok((index, _suboptimal)) => index as usize,
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => {
                 self.swapchain = None;
                 return Ok(false);
+            }
+            Err(vk::Result::TIMEOUT | vk::Result::NOT_READY) => {
+                return Err(crate::error::Error::Timeout {
+                    seconds: device.timeout().as_secs_f64(),
+                    models: Vec::new(),
+                });
             }
             Err(e) => return Err(e.into()),
         };
@@ -575,6 +586,8 @@ fn save_screenshot(bytes: &[u8], width: u32, height: u32, bgra: bool, path: &Pat
 struct Watched {
     scene: PathBuf,
     scene_stamp: Option<SystemTime>,
+    /// The scene's .brdf files, each with its last modification time: an edit reloads the scene.
+    brdfs: Vec<(PathBuf, Option<SystemTime>)>,
     shaders: Option<PathBuf>,
     shaders_stamp: Option<SystemTime>,
     last_look: Instant,
@@ -584,7 +597,20 @@ impl Watched {
     fn new(scene: &Path, shaders: Option<PathBuf>) -> Self {
         let scene_stamp = modified(scene);
         let shaders_stamp = shaders.as_deref().and_then(newest_in);
-        Self { scene: scene.to_path_buf(), scene_stamp, shaders, shaders_stamp, last_look: Instant::now() }
+        let last_look = Instant::now();
+        Self { scene: scene.to_path_buf(), scene_stamp, brdfs: Vec::new(), shaders, shaders_stamp, last_look }
+    }
+
+    /// Watches the .brdf files of `scene` (those of the scene as last loaded, good or not, stay watched).
+    fn watch_brdfs(&mut self, scene: &Scene) {
+        for brdf in scene.materials.values() {
+            if let crate::brdf::Brdf::Analytic(material) = brdf {
+                let path = &material.model().path;
+                if !self.brdfs.iter().any(|(p, _)| p == path) {
+                    self.brdfs.push((path.clone(), modified(path)));
+                }
+            }
+        }
     }
 
     /// Whether the scene changed, and the shaders' folder if a shader did, since the last look.
@@ -594,8 +620,13 @@ impl Watched {
         }
         self.last_look = Instant::now();
         let scene_stamp = modified(&self.scene);
-        let scene_changed = scene_stamp != self.scene_stamp;
+        let mut scene_changed = scene_stamp != self.scene_stamp;
         self.scene_stamp = scene_stamp;
+        for (path, stamp) in &mut self.brdfs {
+            let now = modified(path);
+            scene_changed |= now != *stamp;
+            *stamp = now;
+        }
         let shaders_stamp = self.shaders.as_deref().and_then(newest_in);
         let shaders_changed = shaders_stamp != self.shaders_stamp;
         self.shaders_stamp = shaders_stamp;

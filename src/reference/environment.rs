@@ -43,9 +43,9 @@ impl<'a> EnvironmentLight<'a> {
         self.placed.radiance(d)
     }
 
-    /// The integral of L(wi) f(wi, wo) cos(theta_i) over the hemisphere of `n`; `seed` picks the pixel's
-    /// random numbers.
-    pub fn reflected(&self, reflectance: &Reflectance, n: Vec3, wo: Vec3, seed: u64) -> Estimate {
+    /// The integral of L(wi) f(wi, wo) cos(theta_i) over the hemisphere of `n` (its tangent `t`, which only an
+    /// analytic model reads); `seed` picks the pixel's random numbers.
+    pub fn reflected(&self, reflectance: &Reflectance, (n, t): (Vec3, Vec3), wo: Vec3, seed: u64) -> Estimate {
         let lobe = reflectance.model().and_then(|brdf| Lobe::of(brdf, n, wo));
         let strategies = 1 + usize::from(lobe.is_some()) + usize::from(self.table.is_some());
         let per_strategy = (self.samples_per_batch as usize / strategies).max(1);
@@ -82,7 +82,7 @@ impl<'a> EnvironmentLight<'a> {
                     if density <= 0.0 {
                         continue;
                     }
-                    let f = reflectance.eval(n, wi, wo) * self.placed.radiance(wi) * cos;
+                    let f = reflectance.eval(n, t, wi, wo) * self.placed.radiance(wi) * cos;
                     sum += f.as_dvec3() / (count * density);
                 }
             }
@@ -293,7 +293,7 @@ mod tests {
         let setting = white();
         let light = EnvironmentLight::new(PlacedEnvironment { map: &map, environment: &setting }, 1024);
         let brdf = Reflectance::Model(Brdf::Lambert { kd: Vec3::splat(0.6) });
-        let estimate = light.reflected(&brdf, Vec3::Y, Vec3::new(0.6, 0.8, 0.0), 7);
+        let estimate = light.reflected(&brdf, (Vec3::Y, Vec3::X), Vec3::new(0.6, 0.8, 0.0), 7);
         // Cosine sampling alone: every sample is kd exactly.
         assert!((estimate.radiance - Vec3::splat(0.6)).abs().max_element() < 1e-5, "{}", estimate.radiance);
     }

@@ -71,8 +71,8 @@ fn hue(h: f32) -> [u8; 3] {
 /// renderers bend it back over the horizon the same way.
 const MIN_NOV: f32 = 1e-4;
 
-/// An object's reflectance as the reference evaluates it: an analytic model by the Rust mirror, a measured
-/// one by the reference's own reading of its file.
+/// An object's reflectance as the reference evaluates it: a model by the Rust mirror (a `.brdf` file's, for
+/// the models shipped in `assets/brdfs/`), a measured one by the reference's own reading of its file.
 enum Reflectance {
     Model(Brdf),
     Measured(Arc<MerlFile>),
@@ -97,17 +97,27 @@ impl Reflectance {
                     read.push((path.to_path_buf(), file.clone()));
                     Ok(Reflectance::Measured(file))
                 }
+                Brdf::Analytic(material) if !material.has_mirror() => Err(Error::Scene {
+                    file: scene.source.clone(),
+                    message: format!(
+                        "material.{}.file = {:?}: the CPU reference has no mirror of this BRDF: it shades the models \
+                         shipped in assets/brdfs/, as shipped",
+                        object.material,
+                        material.model().path.display().to_string()
+                    ),
+                }),
                 brdf => Ok(Reflectance::Model(brdf.clone())),
             })
             .collect()
     }
 
-    fn eval(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+    /// f_r at a surface of normal n and tangent t (which only an analytic model reads).
+    fn eval(&self, n: Vec3, t: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
             return Vec3::ZERO;
         }
         match self {
-            Reflectance::Model(brdf) => brdf.eval(n, wi, wo),
+            Reflectance::Model(brdf) => brdf.eval_in_frame(n, t, wi, wo),
             Reflectance::Measured(file) => file.eval(n, wi, wo),
         }
     }
@@ -136,6 +146,17 @@ enum Geometry {
         triangles: Box<TriMesh>,
         normals: Vec<Vec3>,
     },
+}
+
+impl Geometry {
+    /// The tangent the renderer gives the surface at shading normal n (which only an analytic model reads): a
+    /// plane's is the world's +x projected on it, a sphere's and a mesh's +y x n (see `brdf::default_tangent`).
+    fn tangent(&self, n: Vec3) -> Vec3 {
+        match self {
+            Geometry::Plane { .. } => crate::brdf::plane_tangent(n),
+            Geometry::Sphere { .. } | Geometry::Mesh { .. } => crate::brdf::default_tangent(n),
+        }
+    }
 }
 
 /// A ray's nearest hit: the object, the distance, and the shading normal (before facing the viewer).
@@ -418,8 +439,9 @@ fn shade(
 ) -> (Vec3, Vec3) {
     let reflectance = &reflectances[hit.object];
     let point = surface_point(scene, geometry, hit, p, wo);
-    let from_environment = environment.map(|light| light.reflected(reflectance, point.n, wo, seed));
-    let from_lights = point.reflected(|n, wi, wo| reflectance.eval(n, wi, wo));
+    let t = geometry[hit.object].tangent(point.n);
+    let from_environment = environment.map(|light| light.reflected(reflectance, (point.n, t), wo, seed));
+    let from_lights = point.reflected(|n, wi, wo| reflectance.eval(n, t, wi, wo));
     match from_environment {
         Some(estimate) => (from_lights + estimate.radiance, estimate.standard_error),
         None => (from_lights, Vec3::ZERO),

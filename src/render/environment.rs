@@ -25,10 +25,11 @@ pub struct EnvironmentTextures {
     /// What they were made from (`None`: the placeholders).
     pub source: Option<EnvironmentSource>,
     pub map: Image,
-    /// The sampling table: the marginal, then each row's conditional (`SamplingTable`).
+    /// The sampling table (`EnvironmentSampling` of `shaders/common/environment.glsl`): the sampling grid's
+    /// size ((0, 0) for a constant environment, which is not importance-sampled), the samples a pass of the
+    /// exact mode takes and a word of padding, then the marginal, then each row's conditional
+    /// (`SamplingTable`).
     pub sampling: Buffer,
-    /// The sampling grid's size; (0, 0) for a constant environment, which is not importance-sampled.
-    pub sampling_size: (u32, u32),
     /// The fast mode's layers, or a placeholder until a fast render needs them.
     pub prefiltered: Image,
     has_prefiltered: bool,
@@ -49,21 +50,16 @@ impl EnvironmentTextures {
     /// [`EnvironmentTextures::prefilter`].
     pub fn new(device: &Arc<Device>, source: Option<EnvironmentSource>, map: EnvironmentMap) -> Result<Self> {
         let table = SamplingTable::new(&map);
-        let sampling_size = if map.is_constant() { (0, 0) } else { (table.width, table.height) };
-        let floats: Vec<f32> = table.marginal.iter().chain(&table.conditional).copied().collect();
+        let (width, height) = if map.is_constant() { (0, 0) } else { (table.width, table.height) };
+        let words: Vec<u32> = [width, height, super::exact::SAMPLES_PER_PASS, 0]
+            .into_iter()
+            .chain(table.marginal.iter().chain(&table.conditional).map(|v| v.to_bits()))
+            .collect();
         let sampling =
-            device.create_buffer_with_data(&floats, vk::BufferUsageFlags::STORAGE_BUFFER, "environment sampling")?;
+            device.create_buffer_with_data(&words, vk::BufferUsageFlags::STORAGE_BUFFER, "environment sampling")?;
         let map_image = upload_layers(device, map.width, map.height, 1, &map.texels, "environment map")?;
         let prefiltered = upload_layers(device, 1, 1, LAYERS, &vec![Vec3::ZERO; LAYERS as usize], "no prefiltered")?;
-        Ok(Self {
-            source,
-            map: map_image,
-            sampling,
-            sampling_size,
-            prefiltered,
-            has_prefiltered: false,
-            kept_map: Some(map),
-        })
+        Ok(Self { source, map: map_image, sampling, prefiltered, has_prefiltered: false, kept_map: Some(map) })
     }
 
     /// Makes and uploads the prefiltered layers, once.

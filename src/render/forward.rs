@@ -1,11 +1,13 @@
 //! The forward pass: shading every object against every light, with a pipeline per kind of object (meshes,
-//! exact spheres), BRDF, shadow filter and sample count.
+//! exact spheres), BRDF, shadow filter and sample count. An analytic model's fragment shaders are compiled
+//! at run time with its GLSL, once per model and variant, when a pipeline first needs them.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use ash::vk;
 
+use super::analytic::{analytic_shader, AnalyticShader};
 use super::gpu_types::{brdf_id, diffuse_id};
 use super::passes::{
     begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, DepthStart, PassTargets,
@@ -24,6 +26,8 @@ pub struct ForwardPass {
     meshes: Stages,
     spheres: Stages,
     background: Stages,
+    /// Each analytic model's fragment shaders compiled so far, by model, kind of object and variant.
+    analytic: HashMap<(AnalyticShader, bool, usize), CompiledShader>,
     layout: Arc<PipelineLayout>,
     pipelines: HashMap<PipelineKey, Pipeline>,
     device: Arc<Device>,
@@ -67,7 +71,7 @@ impl Stages {
 }
 
 /// What a forward pipeline is built for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum PipelineKey {
     /// The background of an image of `samples` (no vertex input, every depth test passing), showing the
     /// environment or not.
@@ -76,8 +80,10 @@ pub enum PipelineKey {
     /// constants, in the order of their `constant_id`s: the BRDF (brdf.glsl's `BRDF_SPECIALIZED`), the shadow
     /// filter and the number of lights (shading.glsl's `SHADOW_FILTER` and `LIGHT_COUNT`), Cook-Torrance's
     /// diffuse lobe (brdf.glsl's `DIFFUSE_SPECIALIZED`), what the image shows (views.glsl's `VIEW`) and how
-    /// the environment is integrated (environment.glsl's `ENVIRONMENT`).
-    Objects { samples: vk::SampleCountFlags, exact_sphere: bool, constants: [u32; 6] },
+    /// the environment is integrated (environment.glsl's `ENVIRONMENT`), the samples per pixel
+    /// (forward_sphere.frag's `SAMPLES`); and for an analytic model, the model its fragment shader is compiled
+    /// with.
+    Objects { samples: vk::SampleCountFlags, exact_sphere: bool, constants: [u32; 7], analytic: Option<AnalyticShader> },
 }
 
 impl PipelineKey {
@@ -97,15 +103,18 @@ impl PipelineKey {
                 diffuse_id(&object.brdf),
                 scene.image.view.id(),
                 environment_constant(scene),
+                scene.image.samples,
             ],
+            analytic: analytic_shader(&object.brdf),
         }
     }
 
-    /// The background of `scene`'s image.
+    /// The background of `scene`'s image: the environment where it is visible and the image shows the
+    /// radiance (a term view's background is black).
     pub fn background(scene: &Scene) -> Self {
         Self::Background {
             samples: vk::SampleCountFlags::from_raw(scene.image.samples),
-            environment: scene.environment.as_ref().is_some_and(|e| e.visible),
+            environment: scene.environment.as_ref().is_some_and(|e| e.visible) && scene.image.view == View::Radiance,
         }
     }
 }
@@ -130,6 +139,7 @@ impl ForwardPass {
             spheres: Stages::new(compiler, ("forward_sphere.vert", "forward_sphere.frag"), 4)?,
             // The background shows no term: only the environment's variant.
             background: Stages::new(compiler, ("background.vert", "background.frag"), 2)?,
+            analytic: HashMap::new(),
             layout: layout.clone(),
             pipelines: HashMap::new(),
             device: device.clone(),
@@ -138,15 +148,30 @@ impl ForwardPass {
 
     /// The pipelines for `keys`, in order: those not built yet are built first, side by side on the cores
     /// (lavapipe translates and optimizes a pipeline's shaders on the thread that asks, about 10 ms each on
-    /// these machines, and `figures` asks for ten at once: 40 ms less on two cores).
+    /// these machines, and `figures` asks for ten at once: 40 ms less on two cores), after the analytic
+    /// models' fragment shaders they need are compiled by `compiler`.
     ///
     /// # Errors
-    /// `Error::Vulkan` if the driver refuses a pipeline.
-    pub fn pipelines(&mut self, keys: &[PipelineKey]) -> Result<Vec<vk::Pipeline>> {
+    /// `Error::Shader` if an analytic model's shader does not compile, `Error::Vulkan` if the driver refuses
+    /// a pipeline.
+    pub fn pipelines(&mut self, compiler: &ShaderCompiler, keys: &[PipelineKey]) -> Result<Vec<vk::Pipeline>> {
         let mut missing: Vec<PipelineKey> = Vec::new();
         for key in keys {
             if !self.pipelines.contains_key(key) && !missing.contains(key) {
-                missing.push(*key);
+                missing.push(key.clone());
+            }
+        }
+        for key in &missing {
+            if let PipelineKey::Objects { exact_sphere, constants, analytic: Some(model), .. } = key {
+                let variant = Stages::variant(constants[5] != 0, constants[4] != View::Radiance.id());
+                if let std::collections::hash_map::Entry::Vacant(slot) =
+                    self.analytic.entry((model.clone(), *exact_sphere, variant))
+                {
+                    let entry = if *exact_sphere { "forward_sphere.frag" } else { "forward.frag" };
+                    let name = format!("{entry}{}", FRAGMENT_VARIANTS[variant]);
+                    let spirv = compiler.compile_analytic(&name, model.0.glsl())?;
+                    slot.insert(CompiledShader { name: format!("{name} of {}", model.0.name()), spirv });
+                }
             }
         }
         let built = crate::parallel::rows(missing.len() as u32, |i| vec![self.build(&missing[i as usize])]);
@@ -159,13 +184,18 @@ impl ForwardPass {
     }
 
     fn build(&self, key: &PipelineKey) -> Result<Pipeline> {
-        match *key {
-            PipelineKey::Objects { samples, exact_sphere, constants } => {
-                let stages = if exact_sphere { &self.spheres } else { &self.meshes };
-                let shaders = stages.pick(Stages::variant(constants[5] != 0, constants[4] != View::Radiance.id()));
-                build_pipeline(&self.device, &self.layout, shaders, (COLOR_FORMAT, samples), &constants)
+        match key {
+            PipelineKey::Objects { samples, exact_sphere, constants, analytic } => {
+                let stages = if *exact_sphere { &self.spheres } else { &self.meshes };
+                let variant = Stages::variant(constants[5] != 0, constants[4] != View::Radiance.id());
+                let (vertex, fragment) = stages.pick(variant);
+                let fragment = match analytic {
+                    Some(model) => &self.analytic[&(model.clone(), *exact_sphere, variant)],
+                    None => fragment,
+                };
+                build_pipeline(&self.device, &self.layout, (vertex, fragment), (COLOR_FORMAT, *samples), constants)
             }
-            PipelineKey::Background { samples, environment } => {
+            &PipelineKey::Background { samples, environment } => {
                 let (vertex, fragment) = self.background.pick(Stages::variant(environment, false));
                 let vertex_module = self.device.create_shader_module(&vertex.spirv, &vertex.name)?;
                 let fragment_module = self.device.create_shader_module(&fragment.spirv, &fragment.name)?;

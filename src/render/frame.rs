@@ -7,11 +7,11 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Mat4;
 
-use super::exact::SAMPLES_PER_PASS;
 use super::forward::{self, Background, PipelineKey};
+use super::gpu_types::MaterialData;
 use super::gpu_types::{GpuFrame, GpuObject, GpuPointLight};
 use super::occluders::{faces_with_occluders, occluders};
-use super::passes::{barriers, draw_objects, image_barrier, MeshUploads, PassTargets, PassView};
+use super::passes::{barriers, draw_objects, image_barrier, MeshUploads, ObjectSets, PassTargets, PassView};
 use super::resolve::{Readout, ResolveRecording};
 use super::scene_data::{SceneData, SceneResources, SceneValues};
 use super::shadow::{self, cube_face_views, faces_read_by, lookup_margin, FaceKey, ShadowCubes};
@@ -70,12 +70,11 @@ impl Renderer {
             })
             .collect();
         self.measured.hold(&device, scene.objects.iter().map(|o| &o.brdf))?;
-        let objects: Vec<GpuObject> = scene
-            .objects
-            .iter()
-            .zip(placed)
-            .map(|(object, p)| GpuObject::new(object, p.model, &self.measured))
-            .collect();
+        self.analytic.write(&device, scene.objects.iter().map(|o| &o.brdf), scene.objects.len())?;
+        let data = MaterialData { measured: &self.measured, analytic: &self.analytic };
+        let objects: Vec<GpuObject> =
+            scene.objects.iter().zip(placed).map(|(object, p)| GpuObject::new(object, p.model, data)).collect();
+        let report_offsets: Vec<u32> = (0..placed.len()).map(|i| self.analytic.report_offset(i)).collect();
         // Every face of every cube, in the order of the array's layers.
         let shadow_faces: Vec<PassView> = shadow_casters
             .iter()
@@ -89,10 +88,8 @@ impl Renderer {
         let mut frame = GpuFrame::new(&scene.camera, &scene.image, NEAR_PLANE);
         if let Some(environment) = &scene.environment {
             let (sin, cos) = environment.rotation.to_radians().sin_cos();
-            let shown = environment.visible && scene.image.view == crate::scene::View::Radiance;
-            frame.environment = [cos, sin, environment.intensity, f32::from(u8::from(shown))];
-            let (width, height) = self.environment.sampling_size;
-            frame.environment_sampling = [width, height, first_sample, SAMPLES_PER_PASS];
+            frame.environment = [cos, sin, environment.intensity, 0.0];
+            frame.environment_first_sample = first_sample;
         }
         let values = SceneValues {
             frame,
@@ -124,6 +121,7 @@ impl Renderer {
             shadow_cubes: (cubes.maps.view, &self.shadow_sampler),
             environment: (&self.environment, &self.environment_sampler),
             measured: self.measured.buffer(),
+            analytic: &self.analytic,
         };
         let scene_data = match self.scene_data.take() {
             Some(mut data) => {
@@ -136,14 +134,14 @@ impl Renderer {
         let keys: Vec<PipelineKey> = std::iter::once(PipelineKey::background(scene))
             .chain(scene.objects.iter().zip(placed).map(|(object, p)| PipelineKey::for_object(scene, object, p)))
             .collect();
-        let pipelines = self.forward.pipelines(&keys)?;
+        let pipelines = self.forward.pipelines(&self.compiler, &keys)?;
         let (background_pipeline, forward_pipelines) = (pipelines[0], &pipelines[1..]);
         let shadow_pipelines: Vec<vk::Pipeline> = placed.iter().map(|p| self.shadow.pipeline(p)).collect();
 
         let frame = FrameRecording {
             device: &device,
             layout: self.layout.raw,
-            set: scene_data.set,
+            sets: ObjectSets { set: scene_data.set, report_offsets: &report_offsets },
             placed,
             meshes: &self.meshes,
             shadow: ShadowDrawing { pipelines: &shadow_pipelines, faces: &faces_to_draw, lay_out: cubes.need_layout() },
@@ -164,6 +162,7 @@ impl Renderer {
         };
         let drawn = device.submit_and_wait(|cmd| {
             frame.record(cmd);
+            self.analytic.record_host_read_barrier(cmd, vk::PipelineStageFlags2::FRAGMENT_SHADER);
             Ok(())
         });
         let drawn_faces: Vec<(u32, FaceKey)> = faces_to_draw.into_iter().map(|face| (face.layer, face.key)).collect();
@@ -171,7 +170,8 @@ impl Renderer {
         self.shadow_cubes = Some(cubes);
         self.targets = Some(targets);
         self.scene_data = Some(scene_data);
-        drawn
+        drawn.map_err(|e| super::naming_models(e, scene.objects.iter().map(|o| &o.brdf)))?;
+        self.note_invalid_values()
     }
 }
 
@@ -248,7 +248,7 @@ fn faces_to_draw(
 struct FrameRecording<'a> {
     device: &'a Device,
     layout: vk::PipelineLayout,
-    set: vk::DescriptorSet,
+    sets: ObjectSets<'a>,
     placed: &'a [PlacedMesh],
     meshes: &'a MeshUploads,
     shadow: ShadowDrawing<'a>,
@@ -277,7 +277,16 @@ impl FrameRecording<'_> {
         let device = self.device;
         // SAFETY: every handle recorded here lives until submit_and_wait has waited for the work.
         unsafe {
-            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout, 0, &[self.set], &[]);
+            // The background's draw reads no object's report: the first's window will do.
+            let offset = [self.sets.report_offsets.first().copied().unwrap_or(0)];
+            device.raw.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout,
+                0,
+                &[self.sets.set],
+                &offset,
+            );
         }
         let mut to_targets = self.record_shadow_faces(cmd);
 
@@ -302,7 +311,8 @@ impl FrameRecording<'_> {
         if self.background_mode == Background::Drawn {
             forward::draw_background(device, cmd, self.background, &pass);
         }
-        draw_objects(device, cmd, self.layout, self.forward, self.camera, &pass, self.placed, self.meshes, None);
+        let layout = (self.layout, self.sets);
+        draw_objects(device, cmd, layout, self.forward, self.camera, &pass, self.placed, self.meshes, None);
         // SAFETY: as above.
         unsafe { device.raw.cmd_end_rendering(cmd) };
 
@@ -354,7 +364,7 @@ impl FrameRecording<'_> {
             draw_objects(
                 device,
                 cmd,
-                self.layout,
+                (self.layout, self.sets),
                 shadow.pipelines,
                 face.view,
                 &targets,

@@ -3,11 +3,12 @@
 use glam::camera::rh::proj::vulkan;
 use glam::{Mat4, Vec3, Vec4};
 
+use super::analytic::AnalyticValues;
 use super::measured::MeasuredTables;
 use crate::brdf::{Brdf, DiffuseModel};
 use crate::scene::{Camera, ImageSettings, Object, PointLight, Shape, View};
 
-/// `Frame` (std140).
+/// `Frame` (std430).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GpuFrame {
@@ -19,14 +20,11 @@ pub struct GpuFrame {
     pub background: [f32; 4],
     /// The angle a shadow-map texel subtends at the centre of a cube face: 2 / size.
     pub shadow_texel_angle: f32,
-    /// MSAA samples per pixel.
-    pub samples: u32,
+    /// The exact mode: the first sample of this pass (a pass takes `SAMPLES_PER_PASS`).
+    pub environment_first_sample: u32,
     pub pad: [u32; 2],
-    /// The environment: cos and sin of its rotation, its intensity, and 1 where the background shows it.
+    /// The environment: cos and sin of its rotation, its intensity, and 0.
     pub environment: [f32; 4],
-    /// The exact mode's sampling: the sampling grid's width and height (0 for a constant environment, not
-    /// importance-sampled), the first sample of this pass, and the samples a pass takes.
-    pub environment_sampling: [u32; 4],
 }
 
 /// One entry of an object's albedo table (`AlbedoEntry`, std430): the directional albedo of its diffuse
@@ -64,7 +62,8 @@ pub struct GpuMaterial {
     pub diffuse: u32,
     /// Under `BRDF_MEASURED`: the material's table in the measured tables' buffer.
     pub measured: u32,
-    pub pad: u32,
+    /// Under `BRDF_ANALYTIC`: the first of the material's values in the analytic values' buffer.
+    pub analytic: u32,
 }
 
 /// `ObjectData` (std430).
@@ -84,6 +83,7 @@ pub const BRDF_PHONG: u32 = 2;
 pub const BRDF_BLINN_PHONG: u32 = 3;
 pub const BRDF_COOK_TORRANCE: u32 = 4;
 pub const BRDF_MEASURED: u32 = 5;
+pub const BRDF_ANALYTIC: u32 = 6;
 /// The diffuse ids under a Cook-Torrance lobe.
 pub const DIFFUSE_OREN_NAYAR: u32 = 0;
 pub const DIFFUSE_LAMBERT: u32 = 1;
@@ -139,10 +139,9 @@ impl GpuFrame {
             // A term view shows 0 where no object is seen: the background is a radiance.
             background: if image.view == View::Radiance { image.background.extend(1.0) } else { Vec4::W }.into(),
             shadow_texel_angle: 2.0 / image.shadow_map_size as f32,
-            samples: image.samples,
+            environment_first_sample: 0,
             pad: [0; 2],
             environment: [1.0, 0.0, 0.0, 0.0],
-            environment_sampling: [0; 4],
         }
     }
 }
@@ -172,8 +171,21 @@ pub fn brdf_id(brdf: &Brdf) -> u32 {
         Brdf::BlinnPhong { .. } => BRDF_BLINN_PHONG,
         Brdf::CookTorrance { .. } => BRDF_COOK_TORRANCE,
         Brdf::Measured(_) => BRDF_MEASURED,
+        Brdf::Analytic(_) => BRDF_ANALYTIC,
     }
 }
+
+/// What the shaders read of a material besides its own fields: the measured tables and the analytic
+/// materials' values, each material's at its place.
+#[derive(Clone, Copy)]
+pub struct MaterialData<'a> {
+    pub measured: &'a MeasuredTables,
+    pub analytic: &'a AnalyticValues,
+}
+
+/// The tangent rules of `shaders/common/scene.glsl` (an object's `flags.y`).
+pub const TANGENT_DEFAULT: u32 = 0;
+pub const TANGENT_PLANE: u32 = 1;
 
 /// The id of `brdf`'s diffuse lobe under a Cook-Torrance lobe (`DIFFUSE_*` of `shaders/brdf/cook_torrance.glsl`;
 /// unread by the other models, 0).
@@ -185,8 +197,8 @@ pub fn diffuse_id(brdf: &Brdf) -> u32 {
 }
 
 impl GpuMaterial {
-    /// `brdf`'s material, its measured table (if any) at its place in `tables`.
-    pub fn new(brdf: &Brdf, tables: &MeasuredTables) -> Self {
+    /// `brdf`'s material, its measured table or analytic values (if any) at their places in `data`.
+    pub fn new(brdf: &Brdf, data: MaterialData) -> Self {
         let rgb = |v: Vec3| v.extend(0.0).to_array();
         let base = GpuMaterial { brdf: brdf_id(brdf), ..GpuMaterial::default() };
         match *brdf {
@@ -203,20 +215,22 @@ impl GpuMaterial {
                 diffuse: diffuse_id(brdf),
                 ..base
             },
-            Brdf::Measured(ref table) => GpuMaterial { measured: tables.slot(table), ..base },
+            Brdf::Measured(ref table) => GpuMaterial { measured: data.measured.slot(table), ..base },
+            Brdf::Analytic(ref material) => GpuMaterial { analytic: data.analytic.first(material), ..base },
         }
     }
 }
 
 impl GpuObject {
-    /// An object placed by `model`, its measured table (if any) in `tables`.
-    pub fn new(object: &Object, model: Mat4, tables: &MeasuredTables) -> Self {
+    /// An object placed by `model`, its material's data in `data`.
+    pub fn new(object: &Object, model: Mat4, data: MaterialData) -> Self {
         let two_sided = matches!(object.shape, Shape::Plane { .. } | Shape::Triangles(_));
+        let tangent = if matches!(object.shape, Shape::Plane { .. }) { TANGENT_PLANE } else { TANGENT_DEFAULT };
         Self {
             model: model.to_cols_array_2d(),
             normal_matrix: model.inverse().transpose().to_cols_array_2d(),
-            material: GpuMaterial::new(&object.brdf, tables),
-            flags: [u32::from(two_sided), 0, 0, 0],
+            material: GpuMaterial::new(&object.brdf, data),
+            flags: [u32::from(two_sided), tangent, 0, 0],
         }
     }
 }
@@ -302,9 +316,10 @@ mod tests {
                 ("camera_position", offset_of!(GpuFrame, camera_position)),
                 ("background", offset_of!(GpuFrame, background)),
                 ("shadow_texel_angle", offset_of!(GpuFrame, shadow_texel_angle)),
-                ("samples", offset_of!(GpuFrame, samples)),
+                ("environment_first_sample", offset_of!(GpuFrame, environment_first_sample)),
+                ("pad0", offset_of!(GpuFrame, pad)),
+                ("pad1", offset_of!(GpuFrame, pad) + 4),
                 ("environment", offset_of!(GpuFrame, environment)),
-                ("environment_sampling", offset_of!(GpuFrame, environment_sampling)),
             ],
         );
         assert_offsets(
@@ -330,7 +345,7 @@ mod tests {
                 ("metalness", offset_of!(GpuMaterial, metalness)),
                 ("diffuse", offset_of!(GpuMaterial, diffuse)),
                 ("measured", offset_of!(GpuMaterial, measured)),
-                ("pad1", offset_of!(GpuMaterial, pad)),
+                ("analytic", offset_of!(GpuMaterial, analytic)),
             ],
         );
         assert_offsets(

@@ -1,6 +1,7 @@
 //! The offscreen renderer: a scene in, a linear HDR image out, through Vulkan.
 
 pub mod albedo;
+mod analytic;
 mod environment;
 pub mod exact;
 mod forward;
@@ -29,15 +30,18 @@ use crate::mesh::{place_objects, PlacedMesh};
 use crate::output::{encode_texels, HdrImage, TexelOrder};
 use crate::scene::{EnvironmentMode, Scene};
 use crate::vulkan::{Device, DeviceInfo, Instance, PipelineLayout, Sampler, ShaderCompiler, ShaderSources};
+use analytic::AnalyticValues;
+pub use analytic::InvalidValues;
 use environment::{EnvironmentTextures, MAP_FORMAT};
 use exact::{Accuracy, Passes};
 use forward::{Background, ForwardPass, PipelineKey, COLOR_FORMAT, DEPTH_FORMAT};
 use frame::background_of;
 use gpu_types::GpuAlbedoEntry;
+use gpu_types::MaterialData;
 use measured::MeasuredTables;
 use passes::MeshUploads;
 pub use picture::Picture;
-use probe::{read_vec3s, ProbePass};
+use probe::{read_vec3s, ProbeContext, ProbePass};
 pub use probe::{AlbedoCell, AlbedoJob, CellIntegral, ProbeCase};
 use resolve::{Readout, ResolvePass};
 use scene_data::SceneData;
@@ -60,7 +64,12 @@ pub struct RendererOptions {
     pub instance_extensions: Vec<&'static std::ffi::CStr>,
     /// Extra device extensions (the swapchain's, for the preview).
     pub device_extensions: Vec<&'static std::ffi::CStr>,
+    /// How long a wait for the device may last before its work is given up (`--timeout`):
+    /// [`DEFAULT_TIMEOUT`] when `None`.
+    pub timeout: Option<std::time::Duration>,
 }
+
+pub use crate::vulkan::DEFAULT_TIMEOUT;
 
 /// A Vulkan device with the forward pass's shaders compiled and pipelines built once, reused for every image.
 pub struct Renderer {
@@ -86,6 +95,10 @@ pub struct Renderer {
     environment_sampler: Sampler,
     /// The measured materials' tables of the last work that had any.
     measured: MeasuredTables,
+    /// The analytic materials' values of the last work, and its reports of invalid values.
+    analytic: AnalyticValues,
+    /// What the analytic models gave that no BRDF may, over the work since it was last taken.
+    invalid: Option<InvalidValues>,
     /// The fast mode's albedo tables, by material (per process: they depend on the material alone).
     albedo_tables: Vec<(Brdf, Vec<GpuAlbedoEntry>)>,
     /// How exact the last image's environment light was, when it was integrated in the exact mode.
@@ -121,6 +134,7 @@ impl Renderer {
         present_to: Option<(&ash::khr::surface::Instance, vk::SurfaceKHR)>,
     ) -> Result<Self> {
         let device = Device::new(instance, options.device.as_deref(), &options.device_extensions, present_to)?;
+        device.set_timeout(options.timeout.unwrap_or(DEFAULT_TIMEOUT));
         device.require_format(
             COLOR_FORMAT,
             vk::FormatFeatureFlags::COLOR_ATTACHMENT | vk::FormatFeatureFlags::SAMPLED_IMAGE,
@@ -161,6 +175,8 @@ impl Renderer {
             environment,
             environment_sampler,
             measured: MeasuredTables::new(&device)?,
+            analytic: AnalyticValues::new(&device)?,
+            invalid: None,
             albedo_tables: Vec::new(),
             accuracy: None,
             device,
@@ -460,6 +476,7 @@ impl Renderer {
         }
         // The resolve pipelines for the PNGs' readouts, on a thread of their own beside the forward pass's.
         let (forward, resolve, background_counts) = (&mut self.forward, &mut self.resolve, self.background_counts);
+        let compiler = &self.compiler;
         std::thread::scope(|scope| {
             let resolved = scope.spawn(|| {
                 scenes.iter().try_for_each(|scene| {
@@ -468,7 +485,7 @@ impl Renderer {
                     resolve.build(scene.image.samples, readout, background)
                 })
             });
-            let built = forward.pipelines(&keys).map(drop);
+            let built = forward.pipelines(compiler, &keys).map(drop);
             let resolved = resolved.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
             built.and(resolved)
         })
@@ -479,8 +496,7 @@ impl Renderer {
     /// # Errors
     /// `Error::Shader`, `Error::Vulkan` or `Error::Allocation`; `Error::Validation` if the layer complained.
     pub fn probe_brdfs(&mut self, cases: &[ProbeCase]) -> Result<Vec<Vec3>> {
-        self.measured.hold(&self.device, cases.iter().map(|c| &c.brdf))?;
-        self.with_probe(|probe, tables| probe.run(cases, tables))
+        self.with_probe(cases.iter().map(|c| &c.brdf), |probe, context| probe.run(cases, context))
     }
 
     /// Integrates f_r cos(theta_i) of `brdf_eval` over every cell of the hemisphere on the GPU (the albedo
@@ -489,21 +505,47 @@ impl Renderer {
     /// # Errors
     /// As [`Renderer::probe_brdfs`].
     pub fn probe_albedo_cells(&mut self, jobs: &[AlbedoJob], cells: &[AlbedoCell]) -> Result<Vec<CellIntegral>> {
-        self.measured.hold(&self.device, jobs.iter().map(|j| &j.brdf))?;
-        self.with_probe(|probe, tables| probe.integrate(jobs, cells, tables))
+        self.with_probe(jobs.iter().map(|j| &j.brdf), |probe, context| probe.integrate(jobs, cells, context))
     }
 
-    /// Runs `work` with the probe pass, built on first use and kept, and the measured tables.
-    fn with_probe<T>(&mut self, work: impl FnOnce(&mut ProbePass, &MeasuredTables) -> Result<T>) -> Result<T> {
+    /// Runs `work` with the probe pass, built on first use and kept, and the data of the materials `brdfs`
+    /// (their measured tables and analytic values); what the analytic models gave that no BRDF may is added
+    /// to [`Renderer::take_invalid_values`]'s.
+    fn with_probe<'a, T>(
+        &mut self,
+        brdfs: impl Iterator<Item = &'a Brdf> + Clone,
+        work: impl FnOnce(&mut ProbePass, ProbeContext) -> Result<T>,
+    ) -> Result<T> {
+        self.measured.hold(&self.device, brdfs.clone())?;
+        let brdfs_again = brdfs.clone();
+        self.analytic.write(&self.device, brdfs, 1)?;
         let mut probe = match self.probe.take() {
             Some(probe) => probe,
             None => ProbePass::new(&self.device, &self.compiler)?,
         };
-        let results = work(&mut probe, &self.measured);
+        let context = ProbeContext {
+            data: MaterialData { measured: &self.measured, analytic: &self.analytic },
+            compiler: &self.compiler,
+        };
+        let results = work(&mut probe, context).map_err(|e| naming_models(e, brdfs_again));
         self.probe = Some(probe);
         let results = results?;
+        self.note_invalid_values()?;
         self.check_validation()?;
         Ok(results)
+    }
+
+    /// Adds what the analytic models' reports say since they were last read to [`Renderer::take_invalid_values`]'s.
+    fn note_invalid_values(&mut self) -> Result<()> {
+        let report = self.analytic.take_report()?;
+        self.invalid = InvalidValues::merged(self.invalid.take(), report);
+        Ok(())
+    }
+
+    /// Where the analytic models of the work since the last call gave NaN, an infinity or a negative value
+    /// (renders count them as 0; the probe returns them as they are), if they did.
+    pub fn take_invalid_values(&mut self) -> Option<InvalidValues> {
+        self.invalid.take()
     }
 
     /// Takes the validation layer's messages so far (always empty without validation).
@@ -521,10 +563,29 @@ impl Renderer {
     }
 }
 
+/// `error`, a timeout naming the analytic models among `brdfs` (each file once), whose BRDF may never end.
+fn naming_models<'a>(error: Error, brdfs: impl Iterator<Item = &'a Brdf>) -> Error {
+    match error {
+        Error::Timeout { seconds, .. } => {
+            let mut models: Vec<std::path::PathBuf> = Vec::new();
+            for brdf in brdfs {
+                if let Brdf::Analytic(material) = brdf {
+                    if !models.contains(&material.model().path) {
+                        models.push(material.model().path.clone());
+                    }
+                }
+            }
+            Error::Timeout { seconds, models }
+        }
+        other => other,
+    }
+}
+
 /// The descriptor set layout and push constants shared by the shadow and forward passes: the frame (0),
 /// lights (1), objects (2), the shadow cubes' face matrices (3), the shadow cubes (4), the environment's map
-/// (5), its prefiltered layers (6), its sampling table (7), the objects' albedo tables (8) and the measured
-/// tables (9); the push constants
+/// (5), its prefiltered layers (6), its sampling table (7), the objects' albedo tables (8), the measured
+/// tables (9), the analytic materials' values (10) and each object's report of them (11, dynamic); the push
+/// constants
 /// name the object drawn and, in the shadow pass, the light and the cube face.
 fn scene_layout(device: &Arc<Device>) -> Result<Arc<PipelineLayout>> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
@@ -546,6 +607,8 @@ fn scene_layout(device: &Arc<Device>) -> Result<Arc<PipelineLayout>> {
         binding(7, vk::DescriptorType::STORAGE_BUFFER),
         binding(8, vk::DescriptorType::STORAGE_BUFFER),
         binding(9, vk::DescriptorType::STORAGE_BUFFER),
+        binding(10, vk::DescriptorType::STORAGE_BUFFER),
+        binding(11, vk::DescriptorType::STORAGE_BUFFER_DYNAMIC),
     ];
     let push = [vk::PushConstantRange { stage_flags: stages, offset: 0, size: 12 }];
     device.create_pipeline_layout(&[&bindings], &push, "scene layout")

@@ -206,15 +206,23 @@ impl PassView {
     }
 }
 
+/// The scene's descriptor set, and for each object the dynamic offset of its analytic report (binding 11 of
+/// the scene layout: each draw writes its own, so that no two draws write the same memory).
+#[derive(Clone, Copy)]
+pub struct ObjectSets<'a> {
+    pub set: vk::DescriptorSet,
+    pub report_offsets: &'a [u32],
+}
+
 /// Sets the viewport and scissor to the target and draws every object with its pipeline (`pipelines[i]` for
-/// object i), culling the back faces of closed meshes the viewpoint is outside of, and telling the shaders
-/// which object each draw is and, for the shadow pass, which light and cube face (`shadow_face`, with which
-/// objects can shadow from that light: that pass leaves out the others).
+/// object i) and its descriptors (`sets`), culling the back faces of closed meshes the viewpoint is outside
+/// of, and telling the shaders which object each draw is and, for the shadow pass, which light and cube face
+/// (`shadow_face`, with which objects can shadow from that light: that pass leaves out the others).
 #[allow(clippy::too_many_arguments)] // one pass's whole state, recorded in one go
 pub fn draw_objects(
     device: &Device,
     cmd: vk::CommandBuffer,
-    layout: vk::PipelineLayout,
+    (layout, sets): (vk::PipelineLayout, ObjectSets),
     pipelines: &[vk::Pipeline],
     view: PassView,
     targets: &PassTargets,
@@ -235,6 +243,8 @@ pub fn draw_objects(
                 device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 bound = Some(pipeline);
             }
+            let offset = [sets.report_offsets[index]];
+            device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[sets.set], &offset);
             let mesh = meshes.get(&p.mesh);
             let cull = if mesh.hides_back_faces(p.model, view.viewpoint) {
                 vk::CullModeFlags::BACK

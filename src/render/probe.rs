@@ -8,8 +8,8 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use super::gpu_types::{brdf_id, GpuMaterial};
-use super::measured::MeasuredTables;
+use super::analytic::{analytic_shader, AnalyticShader};
+use super::gpu_types::{brdf_id, GpuMaterial, MaterialData};
 use crate::brdf::Brdf;
 use crate::error::{Error, Result};
 use crate::vulkan::{Buffer, BufferDesc, Descriptor, Device, Pipeline, PipelineLayout, ShaderCompiler, ShaderModule};
@@ -83,18 +83,29 @@ const WORKGROUP_SIZE: u32 = 64;
 /// every case of a switch on a value it does not know, and runs them all with the lanes that do not take
 /// them masked off. With the measured lookup among them, building the one pipeline that read the id from the
 /// material took 1.6 s instead of 0.7 (measured on Debian 12's lavapipe), for every process that probes.
+/// An analytic model's pipelines are built from the shader compiled at run time with its GLSL.
 pub struct ProbePass {
     eval: Shader,
     albedo: Shader,
     device: Arc<Device>,
 }
 
-/// A probe shader: its module and layout, and its pipeline for each BRDF id built so far.
+/// What a probe pipeline fixes: the BRDF id, and for an analytic model the model it is compiled with.
+type Variant = (u32, Option<AnalyticShader>);
+
+/// The variant that evaluates `brdf`.
+fn variant(brdf: &Brdf) -> Variant {
+    (brdf_id(brdf), analytic_shader(brdf))
+}
+
+/// A probe shader: its module and layout, each analytic model's module, and its pipeline for each variant
+/// built so far.
 struct Shader {
     file: &'static str,
     module: ShaderModule,
+    analytic_modules: HashMap<AnalyticShader, ShaderModule>,
     layout: Arc<PipelineLayout>,
-    pipelines: HashMap<u32, Pipeline>,
+    pipelines: HashMap<Variant, Pipeline>,
 }
 
 impl Shader {
@@ -113,18 +124,39 @@ impl Shader {
             .collect();
         let push = [vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 4 }];
         let layout = device.create_pipeline_layout(&[&bindings], &push, &format!("{file} layout"))?;
-        Ok(Self { file, module, layout, pipelines: HashMap::new() })
+        Ok(Self { file, module, analytic_modules: HashMap::new(), layout, pipelines: HashMap::new() })
     }
 
-    /// The pipeline for BRDF id `brdf`, built on first use.
-    fn pipeline(&mut self, device: &Arc<Device>, brdf: u32) -> Result<&Pipeline> {
-        if !self.pipelines.contains_key(&brdf) {
+    /// The pipeline for `variant`, built on first use (an analytic model's shader compiled by `compiler`).
+    fn pipeline(&mut self, device: &Arc<Device>, compiler: &ShaderCompiler, variant: &Variant) -> Result<&Pipeline> {
+        if !self.pipelines.contains_key(variant) {
+            let (brdf, analytic) = variant;
+            let module = match analytic {
+                None => &self.module,
+                Some(model) => {
+                    if !self.analytic_modules.contains_key(model) {
+                        let spirv = compiler.compile_analytic(self.file, model.0.glsl())?;
+                        let name = format!("{} of {}", self.file, model.0.name());
+                        self.analytic_modules.insert(model.clone(), device.create_shader_module(&spirv, &name)?);
+                    }
+                    &self.analytic_modules[model]
+                }
+            };
             let name = format!("{} for BRDF {brdf}", self.file);
-            let pipeline = device.create_compute_pipeline(&self.module, &self.layout, &[brdf], &name)?;
-            self.pipelines.insert(brdf, pipeline);
+            let pipeline = device.create_compute_pipeline(module, &self.layout, &[*brdf], &name)?;
+            self.pipelines.insert(variant.clone(), pipeline);
         }
-        Ok(&self.pipelines[&brdf])
+        Ok(&self.pipelines[variant])
     }
+}
+
+/// What every dispatch of the probe binds besides its own buffers, the materials' data (its last bindings:
+/// the analytic models' reports add up over the dispatches), and the compiler of the analytic models'
+/// shaders.
+#[derive(Clone, Copy)]
+pub struct ProbeContext<'a> {
+    pub data: MaterialData<'a>,
+    pub compiler: &'a ShaderCompiler,
 }
 
 impl ProbePass {
@@ -134,50 +166,54 @@ impl ProbePass {
     /// `Error::Shader` or `Error::Vulkan`.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler) -> Result<Self> {
         Ok(Self {
-            eval: Shader::new(device, compiler, "brdf_probe.comp", 3)?,
-            albedo: Shader::new(device, compiler, "brdf_albedo.comp", 4)?,
+            eval: Shader::new(device, compiler, "brdf_probe.comp", 5)?,
+            albedo: Shader::new(device, compiler, "brdf_albedo.comp", 6)?,
             device: device.clone(),
         })
     }
 
-    /// Evaluates every case on the GPU, their measured tables in `tables`.
+    /// Evaluates every case on the GPU, their materials' data in `context`.
     ///
     /// # Errors
-    /// `Error::Vulkan` or `Error::Allocation`.
-    pub fn run(&mut self, cases: &[ProbeCase], tables: &MeasuredTables) -> Result<Vec<Vec3>> {
+    /// `Error::Shader` if an analytic model's shader does not compile, `Error::Vulkan` or `Error::Allocation`.
+    pub fn run(&mut self, cases: &[ProbeCase], context: ProbeContext) -> Result<Vec<Vec3>> {
+        let data = context.data;
         let element = |c: &ProbeCase| GpuProbeCase {
-            material: GpuMaterial::new(&c.brdf, tables),
+            material: GpuMaterial::new(&c.brdf, data),
             n: c.n.extend(0.0).into(),
             wi: c.wi.extend(0.0).into(),
             wo: c.wo.extend(0.0).into(),
         };
-        let bytes = run_by_brdf(&self.device, &mut self.eval, cases, |c| brdf_id(&c.brdf), element, &[], tables, 16)?;
+        let bytes = run_by_brdf(&self.device, &mut self.eval, cases, |c| variant(&c.brdf), element, &[], context, 16)?;
         Ok(read_vec3s(&bytes, 16))
     }
 
-    /// Integrates f_r cos(theta_i) over every cell on the GPU, the jobs' measured tables in `tables`.
+    /// Integrates f_r cos(theta_i) over every cell on the GPU, the jobs' materials' data in `context`.
     ///
     /// # Errors
-    /// `Error::Vulkan` or `Error::Allocation`.
+    /// As [`ProbePass::run`].
     pub fn integrate(
         &mut self,
         jobs: &[AlbedoJob],
         cells: &[AlbedoCell],
-        tables: &MeasuredTables,
+        context: ProbeContext,
     ) -> Result<Vec<CellIntegral>> {
         let gpu_jobs: Vec<GpuAlbedoJob> = jobs
             .iter()
-            .map(|job| GpuAlbedoJob { material: GpuMaterial::new(&job.brdf, tables), wo: job.wo.extend(0.0).into() })
+            .map(|job| GpuAlbedoJob {
+                material: GpuMaterial::new(&job.brdf, context.data),
+                wo: job.wo.extend(0.0).into(),
+            })
             .collect();
         let jobs_buffer =
             self.device.create_buffer_with_data(&gpu_jobs, vk::BufferUsageFlags::STORAGE_BUFFER, "albedo jobs")?;
-        let brdf_of = |cell: &AlbedoCell| brdf_id(&jobs[cell.job as usize].brdf);
+        let brdf_of = |cell: &AlbedoCell| variant(&jobs[cell.job as usize].brdf);
         let element = |cell: &AlbedoCell| GpuAlbedoCell {
             bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1],
             job: cell.job,
             pad: [0; 3],
         };
-        let bytes = run_by_brdf(&self.device, &mut self.albedo, cells, brdf_of, element, &[&jobs_buffer], tables, 32)?;
+        let bytes = run_by_brdf(&self.device, &mut self.albedo, cells, brdf_of, element, &[&jobs_buffer], context, 32)?;
         let estimates = read_vec3s(&bytes, 16);
         Ok(estimates.chunks_exact(2).map(|pair| CellIntegral { kronrod: pair[0], gauss: pair[1] }).collect())
     }
@@ -192,13 +228,13 @@ fn run_by_brdf<T, G: Copy>(
     device: &Arc<Device>,
     shader: &mut Shader,
     items: &[T],
-    brdf_of: impl Fn(&T) -> u32,
+    brdf_of: impl Fn(&T) -> Variant,
     element: impl Fn(&T) -> G,
     inputs: &[&Buffer],
-    tables: &MeasuredTables,
+    context: ProbeContext,
     result_size: usize,
 ) -> Result<Vec<u8>> {
-    let mut groups: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+    let mut groups: BTreeMap<Variant, Vec<usize>> = BTreeMap::new();
     for (index, item) in items.iter().enumerate() {
         groups.entry(brdf_of(item)).or_default().push(index);
     }
@@ -209,8 +245,8 @@ fn run_by_brdf<T, G: Copy>(
             let elements: Vec<G> = chunk.iter().map(|&i| element(&items[i])).collect();
             let input = device.create_buffer_with_data(&elements, vk::BufferUsageFlags::STORAGE_BUFFER, shader.file)?;
             let buffers: Vec<&Buffer> = inputs.iter().copied().chain([&input]).collect();
-            let pipeline = shader.pipeline(device, brdf)?;
-            let bytes = dispatch(device, pipeline, &buffers, tables, chunk.len(), result_size)?;
+            let pipeline = shader.pipeline(device, context.compiler, &brdf)?;
+            let bytes = dispatch(device, pipeline, &buffers, context.data, chunk.len(), result_size)?;
             for (&i, result) in chunk.iter().zip(bytes.chunks_exact(result_size)) {
                 results[i * result_size..(i + 1) * result_size].copy_from_slice(result);
             }
@@ -220,12 +256,13 @@ fn run_by_brdf<T, G: Copy>(
 }
 
 /// Runs `pipeline` once per element over `inputs` (its first bindings), a results buffer of `result_size`
-/// bytes per element (the next) and the measured tables (the last), and returns the results' bytes.
+/// bytes per element (the next), the measured tables, and the analytic values and report (the last), and
+/// returns the results' bytes.
 fn dispatch(
     device: &Arc<Device>,
     pipeline: &Pipeline,
     inputs: &[&Buffer],
-    tables: &MeasuredTables,
+    data: MaterialData,
     count: usize,
     result_size: usize,
 ) -> Result<Vec<u8>> {
@@ -240,7 +277,11 @@ fn dispatch(
         },
         "probe results",
     )?;
-    let buffers: Vec<&Buffer> = inputs.iter().copied().chain([&output, tables.buffer()]).collect();
+    let buffers: Vec<&Buffer> = inputs
+        .iter()
+        .copied()
+        .chain([&output, data.measured.buffer(), data.analytic.values(), data.analytic.reports()])
+        .collect();
     let pool = device.create_descriptor_pool(
         1,
         &[vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: buffers.len() as u32 }],
@@ -263,6 +304,7 @@ fn dispatch(
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_WRITE,
         );
+        data.analytic.record_host_read_barrier(cmd, vk::PipelineStageFlags2::COMPUTE_SHADER);
         Ok(())
     })?;
     Ok(output.bytes()?.to_vec())

@@ -5,12 +5,13 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use super::analytic::{AnalyticValues, REPORT_BYTES};
 use super::environment::EnvironmentTextures;
 use super::gpu_types::{GpuAlbedoEntry, GpuFrame, GpuObject, GpuPointLight};
 use crate::error::Result;
 use crate::vulkan::{Buffer, BufferDesc, Descriptor, DescriptorPool, Device, PipelineLayout, Sampler};
 
-/// The frame (uniform), lights, objects, shadow face matrices and albedo tables (storage) in host-visible
+/// The frame, lights, objects, shadow face matrices and albedo tables (storage buffers) in host-visible
 /// buffers, each
 /// made again only when a scene needs more room than it has, and the one descriptor set the passes bind.
 pub struct SceneData {
@@ -33,13 +34,14 @@ pub struct SceneValues<'a> {
     pub environment_albedo: &'a [GpuAlbedoEntry],
 }
 
-/// What the shaders read besides the values: the shadow cubes, the environment's map, tables and layers, and
-/// the measured tables.
+/// What the shaders read besides the values: the shadow cubes, the environment's map, tables and layers, the
+/// measured tables, and the analytic materials' values and reports.
 #[derive(Clone, Copy)]
 pub struct SceneResources<'a> {
     pub shadow_cubes: (vk::ImageView, &'a Sampler),
     pub environment: (&'a EnvironmentTextures, &'a Sampler),
     pub measured: &'a Buffer,
+    pub analytic: &'a AnalyticValues,
 }
 
 impl SceneData {
@@ -58,7 +60,8 @@ impl SceneData {
             1,
             &[
                 vk::DescriptorPoolSize { ty: vk::DescriptorType::UNIFORM_BUFFER, descriptor_count: 1 },
-                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 6 },
+                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER, descriptor_count: 7 },
+                vk::DescriptorPoolSize { ty: vk::DescriptorType::STORAGE_BUFFER_DYNAMIC, descriptor_count: 1 },
                 vk::DescriptorPoolSize { ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, descriptor_count: 3 },
             ],
         )?;
@@ -96,7 +99,7 @@ impl SceneData {
         Ok(())
     }
 
-    fn descriptors<'a>(&'a self, images: SceneResources<'a>) -> [Descriptor<'a>; 10] {
+    fn descriptors<'a>(&'a self, images: SceneResources<'a>) -> [Descriptor<'a>; 12] {
         let (cubes, sampler) = images.shadow_cubes;
         let (environment, map_sampler) = images.environment;
         let read_only = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
@@ -111,6 +114,12 @@ impl SceneData {
             Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &environment.sampling),
             Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, &self.environment_albedo),
             Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, images.measured),
+            Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, images.analytic.values()),
+            Descriptor::BufferRange(
+                vk::DescriptorType::STORAGE_BUFFER_DYNAMIC,
+                images.analytic.reports(),
+                REPORT_BYTES,
+            ),
         ]
     }
 }

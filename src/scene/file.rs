@@ -137,6 +137,8 @@ pub struct MaterialSection {
     pub metalness: Option<f32>,
     pub diffuse: Option<String>,
     pub file: Option<String>,
+    /// An analytic material's parameter values, by the names its `.brdf` file declares.
+    pub params: Option<toml::Table>,
 }
 
 /// One `[[object]]`: the keys of every shape, each checked against the shape in validation.

@@ -348,10 +348,21 @@ impl Scene {
     }
 
     /// What is legal but probably not meant, one line each naming the file: no object (the image is the
-    /// background alone), no light (every object is black).
+    /// background alone), no light (every object is black), what an analytic model's file holds that is not
+    /// used (each file once).
     pub fn warnings(&self) -> Vec<String> {
         let file = self.source.display();
         let mut warnings = Vec::new();
+        let mut files: Vec<&std::path::Path> = Vec::new();
+        for brdf in self.materials.values() {
+            if let Brdf::Analytic(material) = brdf {
+                let model = material.model();
+                if !files.contains(&model.path.as_path()) {
+                    files.push(&model.path);
+                    warnings.extend(model.warnings.iter().cloned());
+                }
+            }
+        }
         if self.objects.is_empty() {
             warnings.push(format!("{file}: the scene has no [[object]]: the image is its background alone"));
         }
@@ -365,7 +376,12 @@ impl Scene {
                 .iter()
                 .enumerate()
                 .filter(|(_, o)| !matches!(o.brdf, Brdf::CookTorrance { .. }))
-                .map(|(i, o)| format!("object.{i} ({})", o.brdf.name()))
+                .map(|(i, o)| match &o.brdf {
+                    Brdf::Analytic(material) => {
+                        format!("object.{i} ({}: a .brdf file has no separable terms)", material.model().name())
+                    }
+                    brdf => format!("object.{i} ({})", brdf.name()),
+                })
                 .collect();
             if !others.is_empty() {
                 warnings.push(format!(
@@ -374,6 +390,36 @@ impl Scene {
                     others.join(", ")
                 ));
             }
+        }
+        let analytic: Vec<(usize, String)> = self
+            .objects
+            .iter()
+            .enumerate()
+            .filter_map(|(i, o)| match &o.brdf {
+                Brdf::Analytic(material) => Some((i, material.model().name())),
+                _ => None,
+            })
+            .collect();
+        if matches!(view, View::Diffuse | View::Specular) && !analytic.is_empty() {
+            let named: Vec<String> = analytic.iter().map(|(i, name)| format!("object.{i} ({name})")).collect();
+            warnings.push(format!(
+                "{file}: image.view = \"{}\": {} not split into lobes (a .brdf file is one function): whole in the \
+                 diffuse view, black in the specular one",
+                view.name(),
+                named.join(", ")
+            ));
+        }
+        if let (Some(mode), Some((i, name))) = (self.environment_light(), analytic.first()) {
+            let how = match mode {
+                EnvironmentMode::Exact => {
+                    "the exact mode draws its directions by the cosine and the environment alone (no importance \
+                     sampler of the file is used), which converges more slowly than a built-in model's lobe"
+                }
+                EnvironmentMode::Fast => {
+                    "the fast mode lights it as a diffuse surface of its directional albedo: its highlights are lost"
+                }
+            };
+            warnings.push(format!("{file}: object.{i} ({name}) under the environment: {how}"));
         }
         if !view.is_radiance() && view != View::Normal && self.lights.len() > 1 {
             warnings.push(format!(

@@ -8,6 +8,7 @@ use serde::Deserialize;
 use toml::{Table, Value};
 
 use super::file::SceneFile;
+pub use crate::files::shortened;
 
 /// One `KEY=VALUE` override from the command line.
 #[derive(Clone, Debug, PartialEq)]
@@ -118,6 +119,11 @@ fn set(table: &mut Table, item: &Override) -> Result<(), String> {
             // [image], [camera] and [environment] may be left out of a file entirely.
             current.entry(segment).or_insert_with(|| Value::Table(Table::new()));
         }
+        if segment == "params" && walked.starts_with("material.") && walked.matches('.').count() == 1 {
+            // A material's `params` (an analytic model's) may be left out: its parameters take the file's
+            // defaults, and validation says whether the material takes any.
+            current.entry(segment).or_insert_with(|| Value::Table(Table::new()));
+        }
         let value = current.get_mut(segment).ok_or_else(|| format!("unknown key path: the scene has no `{here}`"))?;
         current = match value {
             Value::Table(child) => child,
@@ -158,13 +164,5 @@ fn merge(table: &mut Table, given: &Table) {
                 table.insert(key.clone(), value.clone());
             }
         }
-    }
-}
-
-/// At most the first 40 characters of `text`, for messages that quote what the user gave.
-pub fn shortened(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((end, _)) => format!("{}... ({} characters)", &text[..end], text.chars().count()),
-        None => text.to_string(),
     }
 }

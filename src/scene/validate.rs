@@ -13,7 +13,7 @@ use super::{
     BuiltinEnvironment, Camera, Encoding, Environment, EnvironmentMode, EnvironmentSource, ImageSettings, Object,
     PointLight, Scene, ShadowFilter, Shape, Tonemap, View, BUNNY_PATH, MAX_IMAGE_SIDE, MAX_LIGHTS,
 };
-use crate::brdf::{Brdf, DiffuseModel, Measured};
+use crate::brdf::{Analytic, AnalyticModel, Brdf, DiffuseModel, Measured, ParameterKind, ParameterValue};
 
 type Check<T> = Result<T, String>;
 
@@ -41,10 +41,19 @@ pub(super) fn validate(raw: SceneFile, path: &Path) -> Check<Scene> {
     let objects =
         raw.objects.iter().enumerate().map(|(i, o)| object(i, o, &materials, path)).collect::<Check<Vec<_>>>()?;
     if image.view.is_microfacet_term() && !objects.iter().any(|o| matches!(o.brdf, Brdf::CookTorrance { .. })) {
+        // A .brdf file is one function: vk-render cannot tell its terms apart.
+        let analytic = objects.iter().enumerate().find_map(|(i, o)| match &o.brdf {
+            Brdf::Analytic(material) => Some(format!(
+                " (object.{i}'s {} is a .brdf file, which has no separable terms)",
+                material.model().name()
+            )),
+            _ => None,
+        });
         return Err(format!(
-            "image.view = \"{}\": no object is Cook-Torrance, the only model with a microfacet {} term",
+            "image.view = \"{}\": no object is Cook-Torrance, the only model with a microfacet {} term{}",
             image.view.name(),
-            image.view.name().to_uppercase()
+            image.view.name().to_uppercase(),
+            analytic.unwrap_or_default()
         ));
     }
     let environment = raw.environment.as_ref().map(|e| environment(e, path)).transpose()?;
@@ -194,13 +203,14 @@ fn light(index: usize, s: &LightSection) -> Check<PointLight> {
 }
 
 /// The BRDF names, and the parameters each one takes.
-const BRDF_PARAMETERS: [(&str, &[&str]); 6] = [
+const BRDF_PARAMETERS: [(&str, &[&str]); 7] = [
     ("lambert", &["kd"]),
     ("oren-nayar", &["kd", "sigma"]),
     ("phong", &["kd", "ks", "shininess"]),
     ("blinn-phong", &["kd", "ks", "shininess"]),
     ("cook-torrance", &["kd", "f0", "roughness", "metalness", "diffuse"]),
     ("measured", &["file"]),
+    ("analytic", &["file", "params"]),
 ];
 
 fn material(name: &str, s: &MaterialSection, scene_path: &Path) -> Check<Brdf> {
@@ -224,6 +234,7 @@ fn material(name: &str, s: &MaterialSection, scene_path: &Path) -> Check<Brdf> {
         ("metalness", s.metalness.is_some()),
         ("diffuse", s.diffuse.is_some()),
         ("file", s.file.is_some()),
+        ("params", s.params.is_some()),
     ];
     if let Some((param, _)) = present.iter().find(|(param, set)| *set && !accepted.contains(param)) {
         return Err(format!("{}: not a parameter of brdf {:?} (it takes {})", key(param), s.brdf, accepted.join(", ")));
@@ -244,6 +255,13 @@ fn material(name: &str, s: &MaterialSection, scene_path: &Path) -> Check<Brdf> {
         return Measured::load(&path)
             .map(Brdf::Measured)
             .map_err(|e| format!("{} = {}: {e}", key("file"), quoted(file)));
+    }
+    if s.brdf == "analytic" {
+        let file =
+            s.file.as_deref().ok_or_else(|| format!("{}: missing, and brdf \"analytic\" needs it", key("file")))?;
+        let path = beside_scene(file, scene_path);
+        let model = AnalyticModel::load(&path).map_err(|e| format!("{} = {}: {e}", key("file"), quoted(file)))?;
+        return analytic_values(&key("params"), Analytic::defaults(model), s.params.as_ref()).map(Brdf::Analytic);
     }
     let kd = reflectance("kd", s.kd)?;
     Ok(match s.brdf.as_str() {
@@ -282,6 +300,52 @@ fn material(name: &str, s: &MaterialSection, scene_path: &Path) -> Check<Brdf> {
             Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse }
         }
     })
+}
+
+/// An analytic material's `params`: each a parameter its file declares, of its type (a float a number; a
+/// bool true or false, or 0 or 1; a colour three numbers, or one for a grey), a float within the file's
+/// range. The others keep the file's defaults.
+fn analytic_values(key: &str, mut material: Analytic, params: Option<&toml::Table>) -> Check<Analytic> {
+    for (name, given) in params.into_iter().flatten() {
+        let shown = |value: &toml::Value| super::overrides::shortened(&value.to_string());
+        let model = material.model().clone();
+        let Some(parameter) = model.parameter(name) else {
+            let error = material.with(name, ParameterValue::Float(0.0)).err().unwrap_or_default();
+            return Err(format!("{key}.{name} = {}{error}", shown(given)));
+        };
+        let number = |value: &toml::Value| match value {
+            toml::Value::Float(v) => Some(*v as f32),
+            toml::Value::Integer(v) => Some(*v as f32),
+            _ => None,
+        };
+        let value = match (parameter.kind, given) {
+            (ParameterKind::Float { .. }, value) => number(value).map(ParameterValue::Float),
+            (ParameterKind::Bool { .. }, toml::Value::Boolean(b)) => Some(ParameterValue::Bool(*b)),
+            (ParameterKind::Bool { .. }, toml::Value::Integer(v @ (0 | 1))) => Some(ParameterValue::Bool(*v == 1)),
+            (ParameterKind::Bool { .. }, _) => None,
+            (ParameterKind::Color { .. }, toml::Value::Array(items)) => {
+                let components: Option<Vec<f32>> = items.iter().map(number).collect();
+                components.filter(|c| c.len() == 3).map(|c| ParameterValue::Color(Vec3::from_slice(&c)))
+            }
+            (ParameterKind::Color { .. }, value) => number(value).map(|v| ParameterValue::Color(Vec3::splat(v))),
+        };
+        let Some(value) = value else {
+            let wanted = match parameter.kind {
+                ParameterKind::Float { .. } => "a number",
+                ParameterKind::Bool { .. } => "true or false (or 0 or 1)",
+                ParameterKind::Color { .. } => "a colour: three numbers, or one for a grey",
+            };
+            return Err(format!(
+                "{key}.{name} = {}: {name} is a {} parameter of {} (line {}): it takes {wanted}",
+                shown(given),
+                parameter.kind.type_name(),
+                model.name(),
+                parameter.line
+            ));
+        };
+        material = material.with(name, value).map_err(|e| format!("{key}.{name}{e}"))?;
+    }
+    Ok(material)
 }
 
 /// The keys each shape takes besides `shape` and `material`.

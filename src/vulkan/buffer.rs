@@ -138,6 +138,9 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: the owner guarantees the GPU no longer uses the buffer (renders wait for their fence).
         unsafe { self.device.raw.destroy_buffer(self.raw, None) };
         let _ = self.device.allocator().free(std::mem::take(&mut self.allocation));

@@ -17,6 +17,8 @@ pub struct DescriptorPool {
 pub enum Descriptor<'a> {
     /// A uniform or storage buffer, whole.
     Buffer(vk::DescriptorType, &'a Buffer),
+    /// The first bytes of a buffer: a dynamic descriptor's window, which each bind moves by its offset.
+    BufferRange(vk::DescriptorType, &'a Buffer, vk::DeviceSize),
     /// An image view read through a sampler, in the given layout.
     SampledImage(vk::ImageView, &'a Sampler, vk::ImageLayout),
 }
@@ -64,6 +66,9 @@ impl DescriptorPool {
                 Descriptor::Buffer(_, buffer) => {
                     [vk::DescriptorBufferInfo { buffer: buffer.raw, offset: 0, range: vk::WHOLE_SIZE }]
                 }
+                Descriptor::BufferRange(_, buffer, range) => {
+                    [vk::DescriptorBufferInfo { buffer: buffer.raw, offset: 0, range: *range }]
+                }
                 Descriptor::SampledImage(..) => [vk::DescriptorBufferInfo::default()],
             })
             .collect();
@@ -73,7 +78,7 @@ impl DescriptorPool {
                 Descriptor::SampledImage(view, sampler, layout) => {
                     [vk::DescriptorImageInfo { sampler: sampler.raw, image_view: *view, image_layout: *layout }]
                 }
-                Descriptor::Buffer(..) => [vk::DescriptorImageInfo::default()],
+                Descriptor::Buffer(..) | Descriptor::BufferRange(..) => [vk::DescriptorImageInfo::default()],
             })
             .collect();
         let writes: Vec<_> = descriptors
@@ -82,7 +87,9 @@ impl DescriptorPool {
             .map(|(binding, d)| {
                 let write = vk::WriteDescriptorSet::default().dst_set(set).dst_binding(binding as u32);
                 match d {
-                    Descriptor::Buffer(kind, _) => write.descriptor_type(*kind).buffer_info(&buffer_infos[binding]),
+                    Descriptor::Buffer(kind, _) | Descriptor::BufferRange(kind, ..) => {
+                        write.descriptor_type(*kind).buffer_info(&buffer_infos[binding])
+                    }
                     Descriptor::SampledImage(..) => write
                         .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                         .image_info(&image_infos[binding]),
@@ -96,6 +103,9 @@ impl DescriptorPool {
 
 impl Drop for DescriptorPool {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: renders wait for their work before returning, so no set of this pool is in use.
         unsafe { self.device.raw.destroy_descriptor_pool(self.raw, None) };
     }

@@ -2,7 +2,9 @@
 
 use std::ffi::CStr;
 use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
 
 use ash::{khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -105,7 +107,15 @@ pub struct Device {
     /// VK_EXT_depth_range_unrestricted is enabled: depth may be cleared outside [0, 1], which the forward
     /// pass uses to mark the samples no object covers (render/resolve.rs).
     pub depth_range_unrestricted: bool,
+    /// How long a wait for submitted work may last, in nanoseconds ([`Device::set_timeout`]).
+    timeout_ns: AtomicU64,
+    /// Whether work was given up after it outlasted the timeout: see [`Device::give_up`].
+    given_up: AtomicBool,
 }
+
+/// How long vk-render waits for the device to finish a piece of work before giving the device up (`--timeout`):
+/// far longer than any of its images takes, and short enough that a shader that never ends is reported.
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(30);
 
 impl Device {
     /// Opens the device named by `selector` (an index from `vk-render devices`, or part of a name,
@@ -144,7 +154,8 @@ impl Device {
             [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
         let mut features13 =
             vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
-        let features = vk::PhysicalDeviceFeatures::default().image_cube_array(true);
+        // Fragment stores: an analytic model's report of invalid values (shaders/common/analytic.glsl).
+        let features = vk::PhysicalDeviceFeatures::default().image_cube_array(true).fragment_stores_and_atomics(true);
         // SAFETY: physical comes from this instance.
         let offered = unsafe { instance.raw.enumerate_device_extension_properties(physical)? };
         let unrestricted = ash::ext::depth_range_unrestricted::NAME;
@@ -206,7 +217,32 @@ impl Device {
             command_pool,
             instance,
             depth_range_unrestricted,
+            timeout_ns: AtomicU64::new(DEFAULT_TIMEOUT.as_nanos() as u64),
+            given_up: AtomicBool::new(false),
         }))
+    }
+
+    /// Sets how long a wait for submitted work may last ([`DEFAULT_TIMEOUT`] until set).
+    pub fn set_timeout(&self, timeout: Duration) {
+        self.timeout_ns.store(timeout.as_nanos().min(u128::from(u64::MAX)) as u64, Ordering::SeqCst);
+    }
+
+    /// How long a wait for submitted work may last.
+    pub fn timeout(&self) -> Duration {
+        Duration::from_nanos(self.timeout_ns.load(Ordering::SeqCst))
+    }
+
+    /// Whether the device was given up (work outlasted the timeout and may still run).
+    pub fn is_given_up(&self) -> bool {
+        self.given_up.load(Ordering::SeqCst)
+    }
+
+    /// Gives the device up: work that may never finish (a user's shader that loops for ever) may still use
+    /// every object, so none is destroyed from now on (each owner's Drop leaves it, and the device and
+    /// instance are never destroyed): the memory stays taken until the process ends, which it should soon.
+    fn give_up(&self) {
+        self.given_up.store(true, Ordering::SeqCst);
+        self.instance.give_up();
     }
 
     /// The memory allocator.
@@ -214,10 +250,12 @@ impl Device {
         self.allocator.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 
-    /// Records one command buffer with `record`, submits it and waits for it to finish.
+    /// Records one command buffer with `record`, submits it and waits for it to finish, at most
+    /// [`Device::timeout`].
     ///
     /// # Errors
-    /// What `record` returns, or `Error::Vulkan` from recording, submission or the wait.
+    /// What `record` returns, `Error::Vulkan` from recording, submission or the wait, `Error::Timeout` when
+    /// the work outlasts the timeout (the device is then given up: every later submission fails so too).
     pub fn submit_and_wait(&self, record: impl FnOnce(vk::CommandBuffer) -> Result<()>) -> Result<()> {
         self.submit_and_wait_with(&[], &[], record)
     }
@@ -226,7 +264,7 @@ impl Device {
     /// signalling `signal` (a swapchain's acquire and present semaphores).
     ///
     /// # Errors
-    /// What `record` returns, or `Error::Vulkan` from recording, submission or the wait.
+    /// As [`Device::submit_and_wait`].
     pub fn submit_and_wait_with(
         &self,
         wait: &[(vk::Semaphore, vk::PipelineStageFlags2)],
@@ -249,7 +287,12 @@ impl Device {
                     .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
             })
             .collect();
-        // SAFETY: the pool belongs to this device; each step's handles are freed below on every path.
+        let timeout = self.timeout();
+        if self.is_given_up() {
+            return Err(Error::Timeout { seconds: timeout.as_secs_f64(), models: Vec::new() });
+        }
+        // SAFETY: the pool belongs to this device; each step's handles are freed below on every path but a
+        // timeout, where the work may still use them.
         unsafe {
             let cmd = self.raw.allocate_command_buffers(&alloc_info)?[0];
             let fence = match self.raw.create_fence(&vk::FenceCreateInfo::default(), None) {
@@ -270,9 +313,14 @@ impl Device {
                     .command_buffer_infos(&cmd_info)
                     .signal_semaphore_infos(&signals)];
                 self.raw.queue_submit2(self.queue, &submit, fence)?;
-                self.raw.wait_for_fences(&[fence], true, u64::MAX)?;
+                let nanos = u64::try_from(timeout.as_nanos()).unwrap_or(u64::MAX);
+                self.raw.wait_for_fences(&[fence], true, nanos)?;
                 Ok(())
             })();
+            if matches!(result, Err(Error::Vulkan(vk::Result::TIMEOUT))) {
+                self.give_up();
+                return Err(Error::Timeout { seconds: timeout.as_secs_f64(), models: Vec::new() });
+            }
             if result.is_err() {
                 // A failed submission may leave work queued: finish it before freeing what it uses.
                 let _ = self.raw.device_wait_idle();
@@ -317,7 +365,7 @@ impl Device {
 /// The queue family that vk-render submits all its work to on this device: graphics and compute (which
 /// imply transfer), and presentation to `present_to` when given; or why the device will not do (below Vulkan
 /// 1.3, or without a feature the passes use: dynamic rendering, synchronization2, cube arrays for the
-/// shadow cubes).
+/// shadow cubes, stores from fragment shaders for the analytic models' reports).
 fn usable_queue_family(
     instance: &Instance,
     physical: vk::PhysicalDevice,
@@ -331,11 +379,13 @@ fn usable_queue_family(
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut features13);
     // SAFETY: physical comes from this instance.
     unsafe { instance.raw.get_physical_device_features2(physical, &mut features) };
-    let cube_array = features.features.image_cube_array;
+    let (cube_array, fragment_stores) =
+        (features.features.image_cube_array, features.features.fragment_stores_and_atomics);
     let missing: Vec<&str> = [
         (features13.dynamic_rendering, "dynamicRendering"),
         (features13.synchronization2, "synchronization2"),
         (cube_array, "imageCubeArray"),
+        (fragment_stores, "fragmentStoresAndAtomics"),
     ]
     .into_iter()
     .filter(|(supported, _)| *supported == vk::FALSE)
@@ -397,6 +447,9 @@ fn select(devices: &[(vk::PhysicalDevice, DeviceInfo)], selector: &str) -> Resul
 
 impl Drop for Device {
     fn drop(&mut self) {
+        if self.is_given_up() {
+            return;
+        }
         // SAFETY: all resources made from this device hold an Arc of it, so none is left. The allocator
         // frees its memory blocks on drop, which must happen before the device is destroyed.
         unsafe {

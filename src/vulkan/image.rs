@@ -187,6 +187,9 @@ impl Image {
 
 impl Drop for ImageView {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: renders wait for their work before returning, so the GPU no longer uses the view.
         unsafe { self.device.raw.destroy_image_view(self.raw, None) };
     }
@@ -194,6 +197,9 @@ impl Drop for ImageView {
 
 impl Drop for Image {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: the owner guarantees the GPU no longer uses the image (renders wait for their fence).
         unsafe {
             self.device.raw.destroy_image_view(self.view, None);

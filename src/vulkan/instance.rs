@@ -19,6 +19,9 @@ pub struct Instance {
     pub entry: ash::Entry,
     pub raw: ash::Instance,
     debug: Option<DebugMessenger>,
+    /// Set when a device of this instance was given up with work that never finished (see
+    /// `Device::give_up`): the instance is then never destroyed, the device still existing.
+    given_up: std::sync::atomic::AtomicBool,
 }
 
 /// The first Khronos validation layer whose synchronization validation sees hazards inside dynamic rendering
@@ -135,7 +138,12 @@ impl Instance {
             None
         };
         drop(loader_lock);
-        Ok(Instance { entry, raw, debug })
+        Ok(Instance { entry, raw, debug, given_up: std::sync::atomic::AtomicBool::new(false) })
+    }
+
+    /// Keeps the instance alive for the rest of the process: a device of it was given up.
+    pub(super) fn give_up(&self) {
+        self.given_up.store(true, std::sync::atomic::Ordering::SeqCst);
     }
 
     /// Whether the validation layer is on.
@@ -156,6 +164,9 @@ impl Instance {
 
 impl Drop for Instance {
     fn drop(&mut self) {
+        if self.given_up.load(std::sync::atomic::Ordering::SeqCst) {
+            return;
+        }
         // SAFETY: every device and object made from this instance is gone: they hold an Arc of it.
         unsafe {
             let _loader = super::loader_lock();

@@ -28,7 +28,7 @@ pub(crate) fn loader_lock() -> std::sync::MutexGuard<'static, ()> {
 
 pub use buffer::{Buffer, BufferDesc};
 pub use descriptor::{Descriptor, DescriptorPool};
-pub use device::{list_devices, preferred_device, version_string, Device, DeviceInfo};
+pub use device::{list_devices, preferred_device, version_string, Device, DeviceInfo, DEFAULT_TIMEOUT};
 pub use image::{layer_range, layout_transition, whole_image_copy, Access, Image, ImageDesc, ImageView};
 pub use instance::{Instance, ValidationLog, INSTALL_HINT, SYNC_VALIDATION_SEES_DYNAMIC_RENDERING};
 pub use pipeline::{GraphicsPipelineDesc, Pipeline, PipelineLayout};

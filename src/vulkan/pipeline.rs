@@ -169,6 +169,9 @@ impl Device {
 
 impl Drop for PipelineLayout {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: no pipeline made with this layout is left (each holds an Arc of it).
         unsafe {
             self.device.raw.destroy_pipeline_layout(self.raw, None);
@@ -181,6 +184,9 @@ impl Drop for PipelineLayout {
 
 impl Drop for Pipeline {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: renders wait for their work before returning, so the GPU no longer uses the pipeline.
         unsafe { self.device.raw.destroy_pipeline(self.raw, None) };
     }

@@ -56,6 +56,9 @@ impl Device {
 
 impl Drop for Sampler {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: renders wait for their work before returning, so no descriptor using it is in flight.
         unsafe { self.device.raw.destroy_sampler(self.raw, None) };
     }

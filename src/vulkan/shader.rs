@@ -126,7 +126,7 @@ impl ShaderCompiler {
     /// `Error::Shader` naming the file, with shaderc's log (file:line: error: ...).
     pub fn compile(&self, path: &str) -> Result<Vec<u32>> {
         match &self.compiler {
-            Some(compiler) => self.compile_glsl(compiler, path),
+            Some(compiler) => self.compile_glsl(compiler, path, None),
             None => {
                 PRECOMPILED.iter().find(|(entry, _)| *entry == path).map(|(_, bytes)| spirv_words(bytes)).ok_or_else(
                     || Error::Shader { path: path.to_string(), log: "no such entry file under shaders/".into() },
@@ -135,7 +135,29 @@ impl ShaderCompiler {
         }
     }
 
-    fn compile_glsl(&self, compiler: &shaderc::Compiler, entry: &str) -> Result<Vec<u32>> {
+    /// The SPIR-V of an entry file (or variant, as [`ShaderCompiler::compile`] takes them) with an analytic
+    /// model: ANALYTIC_BRDF defined and `brdf/analytic.glsl` the model's GLSL (`analytic_glsl`, made by
+    /// `AnalyticModel`), compiled by shaderc at run time whatever the sources.
+    ///
+    /// # Errors
+    /// `Error::Shader` naming the entry file, with shaderc's log (a model's own mistakes are found when it is
+    /// loaded, so this is vk-render's).
+    pub fn compile_analytic(&self, entry: &str, analytic_glsl: &str) -> Result<Vec<u32>> {
+        let error = |log: String| Error::Shader { path: entry.to_string(), log };
+        let started;
+        let compiler = match &self.compiler {
+            Some(compiler) => compiler,
+            None => {
+                started = shaderc::Compiler::new().map_err(|e| error(format!("shaderc could not start: {e}")))?;
+                &started
+            }
+        };
+        self.compile_glsl(compiler, &format!("{entry}+ANALYTIC_BRDF"), Some(analytic_glsl))
+    }
+
+    /// Compiles `entry` (FILE or FILE+MACRO+...) with shaderc, `brdf/analytic.glsl` being `analytic_glsl`
+    /// when given.
+    fn compile_glsl(&self, compiler: &shaderc::Compiler, entry: &str, analytic_glsl: Option<&str>) -> Result<Vec<u32>> {
         let error = |log: String| Error::Shader { path: entry.to_string(), log };
         let (path, variant) = match entry.split_once('+') {
             Some((path, variant)) => (path, Some(variant)),
@@ -160,6 +182,7 @@ impl ShaderCompiler {
         // No debug info (line tables, source text): its file names are the only thing in which glslc, at
         // build time, and this compiler differ ("./brdf/x.glsl" against "brdf/x.glsl"). Names are kept.
         let sources = self.sources.clone();
+        let analytic = analytic_glsl.map(str::to_string);
         options.set_include_callback(move |requested, _kind, requesting, _depth| {
             let beside = match requesting.rsplit_once('/') {
                 Some((folder, _)) => format!("{folder}/{requested}"),
@@ -168,7 +191,11 @@ impl ShaderCompiler {
             [beside, requested.to_string()]
                 .into_iter()
                 .find_map(|candidate| {
-                    sources.get(&candidate).map(|content| shaderc::ResolvedInclude {
+                    let content = match (&analytic, candidate.as_str()) {
+                        (Some(glsl), ANALYTIC_FILE) => Some(glsl.as_str()),
+                        _ => sources.get(&candidate),
+                    };
+                    content.map(|content| shaderc::ResolvedInclude {
                         resolved_name: candidate.clone(),
                         content: content.to_string(),
                     })
@@ -183,6 +210,9 @@ impl ShaderCompiler {
         Ok(artifact.as_binary().to_vec())
     }
 }
+
+/// The file an analytic model's GLSL is included as (by `common/analytic.glsl`).
+const ANALYTIC_FILE: &str = "brdf/analytic.glsl";
 
 /// SPIR-V words from the bytes glslc wrote (in this machine's byte order, as it made them here).
 fn spirv_words(bytes: &[u8]) -> Vec<u32> {
@@ -211,6 +241,9 @@ impl Device {
 
 impl Drop for ShaderModule {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: modules are only needed while pipelines are created.
         unsafe { self.device.raw.destroy_shader_module(self.raw, None) };
     }

@@ -165,6 +165,9 @@ impl Swapchain {
 
 impl Drop for Swapchain {
     fn drop(&mut self) {
+        if self.device.is_given_up() {
+            return; // work that never ended may still use it (Device::give_up)
+        }
         // SAFETY: the device is idle after this wait, so no semaphore or image is in use.
         unsafe {
             let _ = self.device.raw.device_wait_idle();

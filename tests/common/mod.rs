@@ -120,6 +120,36 @@ pub fn vk_render(args: &[&str]) -> Output {
     child.wait_with_output().expect("vk-render's output")
 }
 
+/// Runs `vk-render ARGS` (which must succeed) and returns its peak resident size in MB (VmHWM, read until
+/// the process exits) with its standard error.
+pub fn peak_resident_mb(args: &[&str]) -> (u64, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run vk-render");
+    let status = format!("/proc/{}/status", child.id());
+    let mut peak_kb = 0u64;
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+    while child.try_wait().expect("wait for vk-render").is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("vk-render {args:?} hung: killed after five minutes");
+        }
+        let hwm = std::fs::read_to_string(&status).ok().and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse().ok())
+        });
+        peak_kb = peak_kb.max(hwm.unwrap_or(0));
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let output = child.wait_with_output().expect("vk-render's output");
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    assert!(output.status.success(), "vk-render {args:?}: {stderr}");
+    assert!(peak_kb > 0, "no peak resident size read");
+    (peak_kb / 1024, stderr)
+}
+
 /// A validating renderer whose shaders have one edit: `from` (found exactly once) replaced by `to` in
 /// `file` under shaders/, the way tests break a shader on purpose.
 pub fn mutant_renderer(file: &str, from: &str, to: &str) -> Renderer {

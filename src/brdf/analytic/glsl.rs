@@ -1,0 +1,462 @@
+//! A `.brdf` file's shader wrapped for vk-render's shaders: `shaders/brdf/analytic.glsl` of one model.
+//!
+//! GLSL has one namespace, and the files and vk-render's shaders use the same words (`PI`, `sqr`, `G`,
+//! `Fresnel`, `GGX`, ...). So every identifier of the file's own (its functions, constants, structs, locals and
+//! its parameters) is given the prefix [`PREFIX`], which no name of vk-render's shaders has; GLSL's own words,
+//! swizzles and struct members are left as they are. A file that defines a built-in function again with
+//! another meaning (BRDF Explorer's `reflect(L, N)` and `smoothstep`), which glslang's Vulkan target refuses,
+//! gets that name prefixed too, calls and definition alike. Each line keeps its line in the file (`#line`),
+//! and the compiler's messages are mapped back to the file's own names and lines.
+//!
+//! The parameters are globals of the file's names, set from the material's values in the parameter buffer
+//! before each call, so that they stay visible in every function of the file (and a function argument of the
+//! same name shadows them, as in BRDF Explorer).
+
+use std::collections::HashSet;
+
+use super::names::{is_builtin, is_builtin_function};
+use super::parse::ParseError;
+use super::{Parameter, ParameterKind};
+
+/// What every name of the file's own is prefixed with.
+pub const PREFIX: &str = "usr_";
+
+/// The file name the `#line` directives give, replaced by the file's path in messages (a path may hold
+/// characters a directive's string cannot).
+const LINE_FILE: &str = "BRDF_FILE";
+
+/// The text of one token of the shader: an identifier, or anything else (kept as written).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Token<'a> {
+    Identifier(&'a str),
+    Comment(&'a str),
+    Space(&'a str),
+    Other(&'a str),
+}
+
+impl<'a> Token<'a> {
+    fn text(self) -> &'a str {
+        match self {
+            Token::Identifier(t) | Token::Comment(t) | Token::Space(t) | Token::Other(t) => t,
+        }
+    }
+
+    fn is_significant(self) -> bool {
+        !matches!(self, Token::Comment(_) | Token::Space(_))
+    }
+}
+
+/// Splits GLSL text into tokens: identifiers, numbers (with their exponents and suffixes), comments, white
+/// space, and single characters.
+fn tokens(text: &str) -> Vec<Token<'_>> {
+    let bytes = text.as_bytes();
+    let mut out = Vec::new();
+    let mut at = 0;
+    while at < bytes.len() {
+        let start = at;
+        let c = bytes[at];
+        let token = if c.is_ascii_alphabetic() || c == b'_' {
+            while at < bytes.len() && (bytes[at].is_ascii_alphanumeric() || bytes[at] == b'_') {
+                at += 1;
+            }
+            Token::Identifier(&text[start..at])
+        } else if c.is_ascii_digit() || (c == b'.' && bytes.get(at + 1).is_some_and(u8::is_ascii_digit)) {
+            while at < bytes.len() {
+                let b = bytes[at];
+                let exponent_sign = (b == b'+' || b == b'-') && matches!(bytes[at - 1], b'e' | b'E');
+                if !(b.is_ascii_alphanumeric() || b == b'.' || b == b'_' || exponent_sign) {
+                    break;
+                }
+                at += 1;
+            }
+            Token::Other(&text[start..at])
+        } else if text[at..].starts_with("//") {
+            at = text[at..].find('\n').map_or(bytes.len(), |end| at + end);
+            Token::Comment(&text[start..at])
+        } else if text[at..].starts_with("/*") {
+            at = text[at + 2..].find("*/").map_or(bytes.len(), |end| at + 2 + end + 2);
+            Token::Comment(&text[start..at])
+        } else if c.is_ascii_whitespace() {
+            while at < bytes.len() && bytes[at].is_ascii_whitespace() {
+                at += 1;
+            }
+            Token::Space(&text[start..at])
+        } else {
+            // One character, however many bytes it takes.
+            at += text[at..].chars().next().map_or(1, char::len_utf8);
+            Token::Other(&text[start..at])
+        };
+        out.push(token);
+    }
+    out
+}
+
+/// What the file declares at global scope that decides how its names are rewritten.
+#[derive(Default)]
+struct Declarations<'a> {
+    /// Built-in functions the file defines again.
+    redefined: HashSet<&'a str>,
+    /// The file's struct types.
+    structs: HashSet<&'a str>,
+}
+
+/// The significant tokens with their index among all tokens and their line (0 for the first line).
+fn significant<'a>(all: &[Token<'a>]) -> Vec<(usize, usize, Token<'a>)> {
+    let mut line = 0;
+    let mut out = Vec::new();
+    for (index, token) in all.iter().enumerate() {
+        if token.is_significant() {
+            out.push((index, line, *token));
+        }
+        line += token.text().matches('\n').count();
+    }
+    out
+}
+
+/// The expected signature, as messages quote it.
+const SIGNATURE: &str = "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)";
+
+/// Finds the file's global declarations and checks that it defines `vec3 BRDF(vec3, vec3, vec3, vec3, vec3)`.
+/// `lines[k]` is the file's line number of the shader's line k.
+fn declarations<'a>(
+    significant: &[(usize, usize, Token<'a>)],
+    lines: &[usize],
+) -> Result<Declarations<'a>, ParseError> {
+    let file_line = |line: usize| lines.get(line).copied();
+    let mut found = Declarations::default();
+    let mut depth = 0usize;
+    let mut brdf_defined = false;
+    for (k, &(_, line, token)) in significant.iter().enumerate() {
+        match token {
+            Token::Other("{") => depth += 1,
+            Token::Other("}") => depth = depth.saturating_sub(1),
+            Token::Identifier("struct") if depth == 0 => {
+                if let Some((_, _, Token::Identifier(name))) = significant.get(k + 1) {
+                    found.structs.insert(name);
+                }
+            }
+            Token::Identifier(name) if depth == 0 => {
+                let opens_call = matches!(significant.get(k + 1), Some((_, _, Token::Other("("))));
+                let after_type = k > 0 && matches!(significant[k - 1].2, Token::Identifier(_));
+                if !(opens_call && after_type) {
+                    continue;
+                }
+                if is_builtin_function(name) {
+                    found.redefined.insert(name);
+                }
+                if name == "BRDF" {
+                    let (arguments, end) = argument_types(significant, k + 1);
+                    let defines = matches!(significant.get(end + 1), Some((_, _, Token::Other("{"))));
+                    let returns = significant[k - 1].2.text();
+                    if returns != "vec3" || arguments.len() != 5 || arguments.iter().any(|a| a != "vec3") {
+                        return Err(ParseError {
+                            line: file_line(line),
+                            message: format!(
+                                "the shader defines `{returns} BRDF({})`: vk-render calls `{SIGNATURE}`",
+                                arguments.join(", ")
+                            ),
+                        });
+                    }
+                    brdf_defined |= defines;
+                }
+            }
+            _ => {}
+        }
+    }
+    if !brdf_defined {
+        return Err(ParseError {
+            line: None,
+            message: format!("the shader section defines no function `{SIGNATURE}`"),
+        });
+    }
+    Ok(found)
+}
+
+/// The type of each argument of the function whose `(` is significant token `open`, and the index of its
+/// `)`: each argument's last identifier but its name, qualifiers (`in`, `const`, precision) left out.
+fn argument_types(significant: &[(usize, usize, Token<'_>)], open: usize) -> (Vec<String>, usize) {
+    let mut arguments = Vec::new();
+    let mut current: Vec<&str> = Vec::new();
+    let mut depth = 0;
+    for (k, &(_, _, token)) in significant.iter().enumerate().skip(open) {
+        match token {
+            Token::Other("(") => depth += 1,
+            Token::Other(")") if depth == 1 => {
+                if !current.is_empty() {
+                    arguments.push(argument_type(&current));
+                }
+                return (arguments, k);
+            }
+            Token::Other(")") => depth -= 1,
+            Token::Other(",") if depth == 1 => arguments.push(argument_type(&std::mem::take(&mut current))),
+            Token::Identifier(word) if depth == 1 => current.push(word),
+            _ => {}
+        }
+    }
+    (arguments, significant.len())
+}
+
+fn argument_type(words: &[&str]) -> String {
+    const QUALIFIERS: [&str; 8] = ["in", "out", "inout", "const", "highp", "mediump", "lowp", "precise"];
+    let types: Vec<&str> = words.iter().copied().filter(|w| !QUALIFIERS.contains(w)).collect();
+    match types.as_slice() {
+        [] => String::new(),
+        [only] => (*only).to_string(),
+        [.., kind, _name] => (*kind).to_string(),
+    }
+}
+
+/// The file's shader with every name of its own prefixed (see the module's documentation), line for line.
+fn renamed(text: &str, declarations: &Declarations) -> String {
+    let all = tokens(text);
+    let mut out = String::with_capacity(text.len() + text.len() / 4);
+    let mut previous = Token::Space("");
+    // The brace depths at which the struct bodies the tokens are in began.
+    let mut struct_bodies: Vec<usize> = Vec::new();
+    let mut depth = 0usize;
+    let mut struct_pending = false;
+    for token in all {
+        match token {
+            Token::Other("{") => {
+                depth += 1;
+                if struct_pending {
+                    struct_bodies.push(depth);
+                    struct_pending = false;
+                }
+            }
+            Token::Other("}") => {
+                if struct_bodies.last() == Some(&depth) {
+                    struct_bodies.pop();
+                }
+                depth = depth.saturating_sub(1);
+            }
+            Token::Other(";") => struct_pending = false,
+            Token::Identifier("struct") => struct_pending = true,
+            _ => {}
+        }
+        match token {
+            Token::Identifier(name) => {
+                let member = previous == Token::Other(".");
+                let in_struct_body = !struct_bodies.is_empty() && !declarations.structs.contains(name);
+                let glsl_own = is_builtin(name) && !declarations.redefined.contains(name);
+                if member || in_struct_body || glsl_own {
+                    out.push_str(name);
+                } else {
+                    out.push_str(PREFIX);
+                    out.push_str(name);
+                }
+            }
+            other => out.push_str(other.text()),
+        }
+        if token.is_significant() {
+            previous = token;
+        }
+    }
+    out
+}
+
+/// The GLSL of one model: `brdf/analytic.glsl` as the shaders include it (brdf.glsl, under ANALYTIC_BRDF):
+/// the parameters as globals, the file's shader line for line at its own lines, and
+/// `analytic_brdf(first, n, t, wi, wo)`, which sets the parameters from `analytic_parameters[first...]` (the
+/// buffer brdf.glsl declares) and calls the file's BRDF with X = t, Y = n x t.
+///
+/// # Errors
+/// A [`ParseError`] when the shader defines no `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`.
+pub(super) fn wrap(parameters: &[Parameter], shader: &[(usize, String)]) -> Result<String, ParseError> {
+    let text: String = shader.iter().map(|(_, line)| line.as_str()).collect::<Vec<_>>().join("\n");
+    let lines: Vec<usize> = shader.iter().map(|(number, _)| *number).collect();
+    let all = tokens(&text);
+    let declarations = declarations(&significant(&all), &lines)?;
+    let renamed = renamed(&text, &declarations);
+    let mut glsl = String::from(
+        "// The analytic BRDF of one .brdf file, made by vk-render (src/brdf/analytic/glsl.rs): its parameters, then \
+         its\n// shader with its own names prefixed, each line at its line in the file.\n#ifndef BRDF_ANALYTIC_GLSL\n\
+         #define BRDF_ANALYTIC_GLSL\n",
+    );
+    for parameter in parameters {
+        let kind = match parameter.kind {
+            ParameterKind::Float { .. } => "float",
+            ParameterKind::Bool { .. } => "bool",
+            ParameterKind::Color { .. } => "vec3",
+        };
+        glsl.push_str(&format!("{kind} {PREFIX}{};\n", parameter.name));
+    }
+    let mut expected = None;
+    for (number, line) in lines.iter().zip(renamed.split('\n')) {
+        if expected != Some(*number) {
+            glsl.push_str(&format!("#line {number} \"{LINE_FILE}\"\n"));
+        }
+        glsl.push_str(line);
+        glsl.push('\n');
+        expected = Some(number + 1);
+    }
+    glsl.push_str(
+        "#line 1 \"brdf/analytic.glsl\"\nvec3 analytic_brdf(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {\n",
+    );
+    let mut offset = 0;
+    for parameter in parameters {
+        let value = |k: usize| format!("analytic_parameters[first + {}u]", offset + k);
+        let name = &parameter.name;
+        match parameter.kind {
+            ParameterKind::Float { .. } => glsl.push_str(&format!("    {PREFIX}{name} = {};\n", value(0))),
+            ParameterKind::Bool { .. } => glsl.push_str(&format!("    {PREFIX}{name} = {} != 0.0;\n", value(0))),
+            ParameterKind::Color { .. } => {
+                glsl.push_str(&format!("    {PREFIX}{name} = vec3({}, {}, {});\n", value(0), value(1), value(2)));
+            }
+        }
+        offset += parameter.kind.floats();
+    }
+    glsl.push_str(&format!("    return {PREFIX}BRDF(wi, wo, n, t, cross(n, t));\n}}\n#endif\n"));
+    Ok(glsl)
+}
+
+/// The translation unit that checks a model's GLSL on its own when the file is loaded: the wrapper, the
+/// parameter buffer it reads, and one call.
+pub(super) fn check_unit(wrapper: &str) -> String {
+    format!(
+        "#version 460\nlayout(local_size_x = 1) in;\nlayout(set = 0, binding = 0, std430) readonly buffer \
+         AnalyticParameters {{ float analytic_parameters[]; }};\nlayout(set = 0, binding = 1, std430) writeonly \
+         buffer Result {{ vec4 result; }};\n{wrapper}void main() {{\n    result = vec4(analytic_brdf(0u, vec3(0.0, \
+         0.0, 1.0), vec3(1.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0)), 0.0);\n}}\n"
+    )
+}
+
+/// glslang's first error in `log` as one line of the file's own: `LINE: message`, the file's names without
+/// their prefix (the line is `None` for an error outside the file's lines, which would be vk-render's).
+pub(super) fn file_error(log: &str) -> ParseError {
+    let first = log.lines().find(|line| line.contains(": error:")).unwrap_or(log).trim();
+    let unprefixed = without_prefix(first);
+    let marker = format!("{LINE_FILE}:");
+    match unprefixed.find(&marker) {
+        Some(at) => {
+            let rest = &unprefixed[at + marker.len()..];
+            let (line, message) = rest.split_once(':').unwrap_or(("", rest));
+            let message = message.trim().trim_start_matches("error:").trim();
+            ParseError { line: line.trim().parse().ok(), message: format!("GLSL: {message}") }
+        }
+        None => ParseError { line: None, message: format!("GLSL, in vk-render's wrapper of the file: {unprefixed}") },
+    }
+}
+
+/// `text` with [`PREFIX`] taken off every identifier that starts with it.
+fn without_prefix(text: &str) -> String {
+    tokens(text)
+        .into_iter()
+        .map(|token| match token {
+            Token::Identifier(name) => name.strip_prefix(PREFIX).unwrap_or(name),
+            other => other.text(),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rename(text: &str) -> String {
+        let all = tokens(text);
+        let lines: Vec<usize> = (1..=text.lines().count()).collect();
+        let declarations = declarations(&significant(&all), &lines).unwrap();
+        renamed(text, &declarations)
+    }
+
+    const BRDF: &str = "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(1.0); }";
+
+    #[test]
+    fn the_files_names_are_prefixed_and_glsls_are_kept() {
+        let text = format!(
+            "const float PI = 3.14159265;\nfloat sqr(float x) {{ return x*x; }}\n{BRDF}\nfloat G(vec3 h) {{ return \
+             pow(max(0, dot(h.xyz, h)), 2e-3) * h.x + .5e+2 + 1.0f; }}"
+        );
+        let renamed = rename(&text);
+        assert!(renamed.contains("const float usr_PI = 3.14159265;"), "{renamed}");
+        assert!(renamed.contains("float usr_sqr(float usr_x) { return usr_x*usr_x; }"), "{renamed}");
+        assert!(renamed.contains("vec3 usr_BRDF(vec3 usr_L, vec3 usr_V,"), "{renamed}");
+        assert!(
+            renamed.contains(
+                "float usr_G(vec3 usr_h) { return pow(max(0, dot(usr_h.xyz, usr_h)), 2e-3) * usr_h.x + .5e+2 + 1.0f; }"
+            ),
+            "{renamed}"
+        );
+        assert_eq!(renamed.lines().count(), text.lines().count());
+    }
+
+    #[test]
+    fn a_redefined_builtin_is_prefixed_calls_and_all() {
+        let text = format!(
+            "vec3 reflect(vec3 I, vec3 N)\n{{\n    return 2*dot(I,N)*N - I;\n}}\n{BRDF}\nvec3 r(vec3 a) {{ return \
+             reflect(a, a) + refract(a, a, 1.0); }}"
+        );
+        let renamed = rename(&text);
+        assert!(renamed.starts_with("vec3 usr_reflect(vec3 usr_I, vec3 usr_N)"), "{renamed}");
+        assert!(renamed.contains("return usr_reflect(usr_a, usr_a) + refract(usr_a, usr_a, 1.0);"), "{renamed}");
+        // A call at global scope (an initializer) is not a definition.
+        let initializer = rename(&format!("const float s = sqrt(2.0);\n{BRDF}"));
+        assert!(initializer.contains("const float usr_s = sqrt(2.0);"), "{initializer}");
+    }
+
+    #[test]
+    fn struct_members_keep_their_names_and_struct_types_are_prefixed() {
+        let text =
+            format!("struct Lobe {{ float n; vec3 c; }};\nLobe make() {{ Lobe l; l.n = 1.0; return l; }}\n{BRDF}");
+        let renamed = rename(&text);
+        assert!(renamed.starts_with("struct usr_Lobe { float n; vec3 c; };"), "{renamed}");
+        assert!(renamed.contains("usr_Lobe usr_make() { usr_Lobe usr_l; usr_l.n = 1.0; return usr_l; }"), "{renamed}");
+    }
+
+    #[test]
+    fn comments_are_kept_as_written_and_lines_stay_lines() {
+        let text = format!("/* PI\n sqr */ float a; // G\n{BRDF}");
+        let renamed = rename(&text);
+        assert!(renamed.starts_with("/* PI\n sqr */ float usr_a; // G\n"), "{renamed}");
+    }
+
+    #[test]
+    fn the_brdf_function_must_have_vk_renders_signature() {
+        let check = |text: &str| {
+            let all = tokens(text);
+            declarations(&significant(&all), &[7, 8, 9]).err()
+        };
+        assert!(check(BRDF).is_none());
+        assert!(check("vec3 BRDF(in vec3 L, const vec3 V, vec3 N, vec3 X, highp vec3 Y)\n{ return L; }").is_none());
+        let float = check("float BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return 1.0; }").unwrap();
+        assert_eq!(float.line, Some(7));
+        assert!(float.message.contains("defines `float BRDF(vec3, vec3, vec3, vec3, vec3)`"), "{}", float.message);
+        let three = check("\nvec3 BRDF(vec3 L, vec3 V, vec3 N) { return L; }").unwrap();
+        assert_eq!(three.line, Some(8));
+        assert!(three.message.contains("`vec3 BRDF(vec3, vec3, vec3)`"), "{}", three.message);
+        let none = check("vec3 brdf(vec3 L) { return L; }").unwrap();
+        assert_eq!(none.line, None);
+        assert!(none.message.contains("defines no function `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`"));
+        let prototype = check("vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y);").unwrap();
+        assert!(prototype.message.contains("defines no function"), "{}", prototype.message);
+    }
+
+    #[test]
+    fn compiler_messages_name_the_files_line_and_names() {
+        let log = "forward.frag:3: warning: something\nBRDF_FILE:12: error: 'usr_foo' : undeclared identifier\n\
+                   BRDF_FILE:13: error: 'usr_bar' : no such\n2 errors generated.";
+        let e = file_error(log);
+        assert_eq!(e.line, Some(12));
+        assert_eq!(e.message, "GLSL: 'foo' : undeclared identifier");
+        let wrapper = file_error("brdf/analytic.glsl:2: error: 'usr_x' : bad");
+        assert_eq!(wrapper.line, None);
+        assert!(wrapper.message.contains("'x' : bad"), "{}", wrapper.message);
+    }
+
+    #[test]
+    fn no_name_of_vk_renders_shaders_has_the_prefix() {
+        let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let sources = crate::vulkan::ShaderSources::from_directory(&folder).unwrap();
+        let compiler_sources = crate::vulkan::ShaderSources::default();
+        assert_eq!(sources, compiler_sources);
+        for path in sources.paths() {
+            let text = std::fs::read_to_string(folder.join(path)).unwrap();
+            for token in tokens(&text) {
+                if let Token::Identifier(name) = token {
+                    assert!(!name.starts_with(PREFIX), "shaders/{path} names {name}");
+                }
+            }
+        }
+    }
+}
