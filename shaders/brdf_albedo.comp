@@ -1,4 +1,5 @@
 #version 460
+#extension GL_EXT_control_flow_attributes : require
 
 // The albedo probe: integrates f_r(wi, wo) cos(theta_i) over cells of the hemisphere of wi, with brdf_eval,
 // the very function the forward pass shades with, so that an albedo, a furnace table and a render can never
@@ -15,6 +16,15 @@
 #include "common/brdf.glsl"
 
 layout(local_size_x = 64) in;
+
+// An analytic model's loops over the nodes are not unrolled: 15 x 15 copies of a user's BRDF (and of its
+// report of invalid values) made a shader lavapipe took minutes to compile, when the dispatch first ran. The
+// built-in models' shaders, much smaller, stay unrolled.
+#ifdef ANALYTIC_BRDF
+#define NODE_LOOP [[dont_unroll]]
+#else
+#define NODE_LOOP
+#endif
 
 struct AlbedoJob {
     Material material;
@@ -67,7 +77,7 @@ void main() {
     vec2 phi_mid = vec2(0.5 * (cell.bounds.z + cell.bounds.w), 0.5 * (cell.bounds.w - cell.bounds.z));
     vec3 kronrod = vec3(0.0);
     vec3 gauss = vec3(0.0);
-    for (int a = 0; a < 15; ++a) {
+    NODE_LOOP for (int a = 0; a < 15; ++a) {
         float theta = theta_mid.x + theta_mid.y * NODES[a];
         float sin_theta = sin(theta);
         float cos_theta = cos(theta);
@@ -75,7 +85,7 @@ void main() {
         float measure = sin_theta * cos_theta;
         vec3 kronrod_ring = vec3(0.0);
         vec3 gauss_ring = vec3(0.0);
-        for (int b = 0; b < 15; ++b) {
+        NODE_LOOP for (int b = 0; b < 15; ++b) {
             float phi = phi_mid.x + phi_mid.y * NODES[b];
             vec3 wi = vec3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
             vec3 f = brdf_eval(job.material, n, vec3(1.0, 0.0, 0.0), wi, job.wo.xyz);

@@ -33,7 +33,7 @@ def test_the_readmes_python_examples_run_as_written(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     namespace = {}
     examples = [code for code in blocks("python") if not code.startswith(SLURM)]
-    assert len(examples) >= 6
+    assert len(examples) >= 7
     printed = io.StringIO()
     for code in examples:
         with contextlib.redirect_stdout(printed):
@@ -47,6 +47,7 @@ def test_the_readmes_python_examples_run_as_written(tmp_path, monkeypatch):
         "material.grey.kd = [1.5, 1.5, 1.5]: every component must be in [0, 1]",
         "6 {'material.matte.sigma': 0.0, 'light.0.power': 60} (100, 150, 3)",
         "True grid-tiles/grid-sigma=0.0-power=30.png",
+        "brushed (357, 3) float32",
     ]:
         assert said in printed.getvalue(), (said, printed.getvalue())
     assert " True\n" in printed.getvalue()  # the albedo's bound

@@ -76,6 +76,12 @@ struct GpuAlbedoCell {
 
 const WORKGROUP_SIZE: u32 = 64;
 
+/// The most BRDF evaluations one dispatch makes: each dispatch is waited for within the device's timeout,
+/// and an albedo's refinement of a sharp lobe (Ashikhmin-Shirley's of exponent 100) made 2^20 cells of 225
+/// evaluations each, over the 30 s a wait may take on lavapipe. 2^20 evaluations of the Disney BRDF take
+/// about 0.1 s there; the memory a dispatch holds at once stays small.
+const EVALUATIONS_PER_DISPATCH: usize = 1 << 20;
+
 /// The probe shaders and their pipelines: `brdf_eval` at given cases, and integrated over cells, one pipeline
 /// per BRDF, built when first needed.
 ///
@@ -102,6 +108,8 @@ fn variant(brdf: &Brdf) -> Variant {
 /// built so far.
 struct Shader {
     file: &'static str,
+    /// The BRDF evaluations an item takes (a case one, a cell 15 x 15).
+    evaluations: usize,
     module: ShaderModule,
     analytic_modules: HashMap<AnalyticShader, ShaderModule>,
     layout: Arc<PipelineLayout>,
@@ -110,7 +118,12 @@ struct Shader {
 
 impl Shader {
     /// Compiles `file`, whose layout has `bindings` storage buffers and the element count as push constant.
-    fn new(device: &Arc<Device>, compiler: &ShaderCompiler, file: &'static str, bindings: u32) -> Result<Self> {
+    fn new(
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        (file, evaluations): (&'static str, usize),
+        bindings: u32,
+    ) -> Result<Self> {
         let spirv = compiler.compile(file)?;
         let module = device.create_shader_module(&spirv, file)?;
         let bindings: Vec<_> = (0..bindings)
@@ -124,7 +137,7 @@ impl Shader {
             .collect();
         let push = [vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 4 }];
         let layout = device.create_pipeline_layout(&[&bindings], &push, &format!("{file} layout"))?;
-        Ok(Self { file, module, analytic_modules: HashMap::new(), layout, pipelines: HashMap::new() })
+        Ok(Self { file, evaluations, module, analytic_modules: HashMap::new(), layout, pipelines: HashMap::new() })
     }
 
     /// The pipeline for `variant`, built on first use (an analytic model's shader compiled by `compiler`).
@@ -166,8 +179,8 @@ impl ProbePass {
     /// `Error::Shader` or `Error::Vulkan`.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler) -> Result<Self> {
         Ok(Self {
-            eval: Shader::new(device, compiler, "brdf_probe.comp", 5)?,
-            albedo: Shader::new(device, compiler, "brdf_albedo.comp", 6)?,
+            eval: Shader::new(device, compiler, ("brdf_probe.comp", 1), 5)?,
+            albedo: Shader::new(device, compiler, ("brdf_albedo.comp", 15 * 15), 6)?,
             device: device.clone(),
         })
     }
@@ -220,9 +233,9 @@ impl ProbePass {
 }
 
 /// Runs `shader` once per item: the items of each BRDF (`brdf_of`) with that BRDF's pipeline, in chunks of
-/// what one storage buffer may hold (`maxStorageBufferRange`: 128 MiB on lavapipe; at most 2^20 items, the
-/// memory a dispatch holds at once), each chunk's elements (`element`) bound after `inputs`. Returns every
-/// item's `result_size` bytes of results, in the items' order.
+/// what one storage buffer may hold (`maxStorageBufferRange`: 128 MiB on lavapipe) and of at most
+/// [`EVALUATIONS_PER_DISPATCH`] BRDF evaluations, each chunk's elements (`element`) bound after `inputs`.
+/// Returns every item's `result_size` bytes of results, in the items' order.
 #[allow(clippy::too_many_arguments)] // one dispatch's whole description, for either probe
 fn run_by_brdf<T, G: Copy>(
     device: &Arc<Device>,
@@ -238,7 +251,9 @@ fn run_by_brdf<T, G: Copy>(
     for (index, item) in items.iter().enumerate() {
         groups.entry(brdf_of(item)).or_default().push(index);
     }
-    let per_dispatch = (device.limits.max_storage_buffer_range as usize / std::mem::size_of::<G>()).clamp(1, 1 << 20);
+    let per_dispatch = (device.limits.max_storage_buffer_range as usize / std::mem::size_of::<G>())
+        .min(EVALUATIONS_PER_DISPATCH / shader.evaluations)
+        .max(1);
     let mut results = vec![0u8; items.len() * result_size];
     for (brdf, indices) in groups {
         for chunk in indices.chunks(per_dispatch) {
