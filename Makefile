@@ -13,7 +13,7 @@ CARGO ?= cargo
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test test-python test-current bench bench-peer bench-python bless clean
+.PHONY: all setup setup-test build render test test-python test-current bench bench-fit bench-peer bench-python bless clean
 
 all: render
 
@@ -56,6 +56,11 @@ test-current:
 ## bench: the renderer's benchmark (median of 9 runs each); `scripts/stage-current.sh bench` on Debian 13
 bench: setup
 	$(CARGO) bench --locked --bench render
+
+## bench-fit: a four-parameter .brdf fit against the course's Cook-Torrance fit of one measured material, in
+## one run (mark: at most twice as long)
+bench-fit: setup
+	$(CARGO) bench --locked --bench fit
 
 ## bench-peer: vk-render against pyrender (OpenGL on the same Mesa) on the same scenes, in one run, as ratios
 ## (scripts/bench-pyrender.sh; `scripts/stage-current.sh bench-peer` on Debian 13)

@@ -17,14 +17,10 @@
 
 layout(local_size_x = 64) in;
 
-// An analytic model's loops over the nodes are not unrolled: 15 x 15 copies of a user's BRDF (and of its
-// report of invalid values) made a shader lavapipe took minutes to compile, when the dispatch first ran. The
-// built-in models' shaders, much smaller, stay unrolled.
-#ifdef ANALYTIC_BRDF
+// The loops over the nodes are not unrolled: 15 x 15 copies of a user's BRDF (and of its report of invalid
+// values), or of a measured table's lookup, made a shader lavapipe took minutes to compile when the dispatch
+// first ran (a MERL copy's albedo: 465 s on a cold shader cache).
 #define NODE_LOOP [[dont_unroll]]
-#else
-#define NODE_LOOP
-#endif
 
 struct AlbedoJob {
     Material material;

@@ -63,7 +63,7 @@ enum Command {
     /// them (exit status 0 matches, 1 differs, 2 bad input).
     Check(commands::check::CheckArgs),
     /// Fit a model to a material: the parameters that best match its lobe in least squares over the
-    /// hemisphere for a set of incidence angles, printed as `name = value` with the residual.
+    /// hemisphere for a set of incidence angles, printed as `name = value ± standard error` with the residual.
     Fit(commands::fit::FitArgs),
     /// Write a material as a MERL file, as if measured (each entry its BRDF at the entry's centre), to load
     /// with brdf = "measured" or into another tool that reads MERL files.

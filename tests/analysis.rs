@@ -273,8 +273,9 @@ fn slices_equal_the_rust_mirror() {
 }
 
 fn fitted(target: &Brdf, model: &str) -> vk_render::analysis::fit::Fit {
-    use vk_render::analysis::fit::{fit, DEFAULT_THETA_I};
-    fit(&mut common::renderer(), target, model, &DEFAULT_THETA_I, |_| {}).expect("probe").expect("a model")
+    use vk_render::analysis::fit::{fit, FitModel, DEFAULT_THETA_I};
+    let model = FitModel::named(model).expect("a model");
+    fit(&mut common::renderer(), target, &model, &DEFAULT_THETA_I, |_| {}).expect("probe")
 }
 
 #[test]

@@ -315,30 +315,34 @@ fn tabulate_writes_a_files_brdf_as_a_merl_table_from_its_own_glsl() {
 
 #[test]
 fn the_readmes_analytic_examples_run_as_written() {
-    // The shell block of the README's section on .brdf files, each command run from a folder holding the
-    // repository's assets (its files land there).
+    // The shell blocks of the README's section on .brdf files, each command run from a folder holding the
+    // repository's assets (its files land there); the output the fits' block shows is the second fit's.
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
     let start = readme.find("\n## Analytic BRDFs").expect("the section");
     let section = &readme[start..readme[start + 1..].find("\n## ").map_or(readme.len(), |end| start + 1 + end)];
-    let block = section.split("```sh\n").nth(1).and_then(|b| b.split("```").next()).expect("a shell block");
+    let blocks: Vec<&str> = section.split("```sh\n").skip(1).filter_map(|b| b.split("```").next()).collect();
     let folder = temp_dir();
     std::os::unix::fs::symlink(root().join("assets"), folder.path().join("assets")).unwrap();
-    let commands = block.replace("\\\n", " ");
-    let mut ran = 0;
-    for line in commands.lines().map(|l| l.split(" # ").next().unwrap_or(l).trim()).filter(|l| !l.is_empty()) {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        assert_eq!(words[0], "vk-render", "{line}");
-        let output = std::process::Command::new(env!("CARGO_BIN_EXE_vk-render"))
-            .arg("--validate")
-            .args(&words[1..])
-            .current_dir(folder.path())
-            .output()
-            .unwrap();
-        assert!(output.status.success(), "{line}: {}", String::from_utf8_lossy(&output.stderr));
-        ran += 1;
+    let mut outputs = Vec::new();
+    for block in &blocks {
+        let commands = block.replace("\\\n", " ");
+        for line in commands.lines().map(|l| l.split(" # ").next().unwrap_or(l).trim()).filter(|l| !l.is_empty()) {
+            let words: Vec<&str> = line.split_whitespace().collect();
+            assert_eq!(words[0], "vk-render", "{line}");
+            let output = std::process::Command::new(env!("CARGO_BIN_EXE_vk-render"))
+                .arg("--validate")
+                .args(&words[1..])
+                .current_dir(folder.path())
+                .output()
+                .unwrap();
+            assert!(output.status.success(), "{line}: {}", String::from_utf8_lossy(&output.stderr));
+            outputs.push(String::from_utf8_lossy(&output.stdout).into_owned());
+        }
     }
-    assert_eq!(ran, 5);
+    assert_eq!(outputs.len(), 8);
     for file in ["brushed.png", "sweep.png", "lobes.png", "furnace.csv", "brushed.binary"] {
         assert!(folder.path().join(file).exists(), "{file}");
     }
+    let shown = section.split("```\nblinn-phong (").nth(1).and_then(|b| b.split("```").next()).expect("the output");
+    assert_eq!(outputs[6], format!("blinn-phong ({shown}"));
 }

@@ -252,16 +252,22 @@ fn fit_prints_name_value_lines_and_draws_the_lobes() {
     ]);
     let lines: Vec<&str> = stdout.lines().collect();
     assert!(lines[0].contains("over theta_i = 20, 50 degrees"), "{stdout}");
-    assert_eq!(&lines[1..3], ["kd = [0.35, 0.35, 0.35]", "ks = [0.15, 0.15, 0.15]"], "{stdout}");
-    let shininess: f32 = lines[3].strip_prefix("shininess = ").unwrap().parse().unwrap();
-    assert!((shininess - 16.0).abs() < 0.01, "{stdout}");
+    // `name = value ± error`: the material is a Blinn-Phong one, so the fit is exact and so sure of it.
+    let zeros = "[0.000000, 0.000000, 0.000000]";
+    assert_eq!(lines[1], format!("kd = [0.350000, 0.350000, 0.350000] ± {zeros}"), "{stdout}");
+    assert_eq!(lines[2], format!("ks = [0.150000, 0.150000, 0.150000] ± {zeros}"), "{stdout}");
+    let (shininess, error) = lines[3].strip_prefix("shininess = ").unwrap().split_once(" ± ").unwrap();
+    assert!((shininess.parse::<f32>().unwrap() - 16.0).abs() < 0.01, "{stdout}");
+    assert!(error.parse::<f32>().unwrap() < 1e-3, "{stdout}");
     assert!(lines[4].starts_with("residual = 0.000000"), "{stdout}");
     assert!(std::fs::read_to_string(&plot).unwrap().contains("blinn-phong (fit), θi 50°"));
     for (args, needle) in [
         (vec!["--material", "velvet", "--to", "phong"], "--material velvet: no such material"),
-        (vec!["--material", "gold", "--to", "ward"], "invalid value 'ward' for '--to <MODEL>'"),
+        (vec!["--material", "gold", "--to", "ward"], "--to ward: not a model"),
         (vec!["--material", "gold", "--to", "phong", "--theta-i", "95"], "--theta-i 95"),
         (vec!["--material", "gold", "--to", "phong", "-o", "fit.csv"], "drawn as .png or .svg"),
+        (vec!["--material", "gold", "--to", "nosuch.brdf"], "--to: cannot read the BRDF file nosuch.brdf"),
+        (vec!["--material", "gold", "--to", "phong", "--hold", "ks"], "--hold ks: none of the models fitted (phong)"),
     ] {
         let mut full = vec!["fit", materials.to_str().unwrap()];
         full.extend(args);
@@ -272,6 +278,39 @@ fn fit_prints_name_value_lines_and_draws_the_lobes() {
             "{full:?}: {stderr}"
         );
     }
+}
+
+/// A `.brdf` file fitted: each parameter with its error, those held as the file has them; with a built-in
+/// model beside it, the two ranked by their residuals.
+#[test]
+fn fit_to_a_brdf_file_holds_what_it_is_told_and_ranks_it_beside_the_built_in_models() {
+    let materials = root().join("assets/analysis/course-materials.toml");
+    let file = root().join("assets/brdfs/blinn_phong.brdf");
+    let fit = |to: &str, hold: &[&str]| {
+        let mut args = vec!["fit", materials.to_str().unwrap(), "--material", "blinn-phong", "--to", to];
+        args.extend(hold);
+        succeeds(&args)
+    };
+    // The file's Blinn-Phong is the material's model: exact, every parameter found.
+    let stdout = fit(file.to_str().unwrap(), &[]);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(lines[0].contains("fitted with blinn_phong.brdf"), "{stdout}");
+    assert!(lines[1].starts_with("kd = [0.350000, 0.350000, 0.350000] ± ["), "{stdout}");
+    assert!(lines[2].starts_with("ks = [0.150000, 0.150000, 0.150000] ± ["), "{stdout}");
+    assert!(lines[3].starts_with("shininess = 16.0000 ± "), "{stdout}");
+    assert!(lines[4].starts_with("residual = 0.000000"), "{stdout}");
+    // ks held at the file's 0.3: the others make up for it as they can, and the residual says so.
+    let stdout = fit(file.to_str().unwrap(), &["--hold", "ks"]);
+    assert!(stdout.contains("\nks = [0.3, 0.3, 0.3] (held)\n"), "{stdout}");
+    let shininess: f32 = stdout.split("shininess = ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!(shininess > 20.0, "{stdout}");
+    assert!(!stdout.contains("residual = 0.000000"), "{stdout}");
+    // Beside the built-in Blinn-Phong, Ward's file comes second.
+    let ward = root().join("assets/brdfs/ward.brdf");
+    let stdout = fit(&format!("{},blinn-phong", ward.display()), &[]);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(lines[0].contains("fitted with 2 models") && lines[0].ends_with("best first:"), "{stdout}");
+    assert!(lines[1].starts_with("1. blinn-phong") && lines[2].starts_with("2. ward.brdf"), "{stdout}");
 }
 
 #[test]

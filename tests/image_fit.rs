@@ -8,6 +8,7 @@ mod common;
 use common::*;
 use glam::Vec3;
 use image::RgbImage;
+use vk_render::analysis::fit::FitModel;
 use vk_render::analysis::image_fit::{ImageFit, SceneImage};
 use vk_render::brdf::Brdf;
 use vk_render::check::report::check_image;
@@ -29,9 +30,8 @@ fn fits(scene: &Scene, object: usize, model: &str) -> Vec<(&'static str, ImageFi
         .map(|(kind, image)| {
             let fitted = SceneImage::new(scene, &image, "image".as_ref())
                 .expect("an image of the scene")
-                .fit(&mut renderer(), object, model, |_| {})
-                .expect("fit")
-                .expect("a model");
+                .fit(&mut renderer(), object, &FitModel::named(model).expect("a model"), |_| {})
+                .expect("fit");
             eprintln!("{kind}: {:?}, residual {:.2} levels", fitted.fit.brdf, fitted.residual_levels);
             (kind, fitted)
         })
@@ -58,7 +58,7 @@ fn oren_nayar_sigma_is_recovered_from_figure_2() {
         let Brdf::OrenNayar { kd, sigma } = fitted.fit.brdf else { panic!("{kind}: {:?}", fitted.fit.brdf) };
         assert!(within(sigma, 0.4, 0.02) && colour_within(kd, Vec3::splat(0.5)), "{kind}: {:?}", fitted.fit.brdf);
         // The parameters are determined, and the standard error is in proportion to the noise.
-        let sigma_error = fitted.parameters[1].errors[0].expect("sigma determined");
+        let sigma_error = fitted.fit.parameters[1].errors[0].expect("sigma determined");
         assert!(sigma_error < 0.002, "{kind}: sigma ± {sigma_error}");
     }
 }
@@ -132,7 +132,7 @@ fn check_names_a_wrong_parameter() {
     let [found] = &checked.wrong_parameters[..] else { panic!("{} findings", checked.wrong_parameters.len()) };
     assert_eq!(found.object, 0);
     let [(name, fitted, given)] = &found.differing[..] else { panic!("{:?}", found.differing) };
-    assert_eq!((*name, given.as_slice()), ("sigma", [0.6f32].as_slice()));
+    assert_eq!((name.as_str(), given.as_slice()), ("sigma", [0.6f32].as_slice()));
     assert!(within(fitted[0], 0.35, 0.02), "{fitted:?}");
 }
 

@@ -460,7 +460,7 @@ fn every_command_takes_a_measured_material() {
 /// (within 2%; measured: to float precision, the entries being the model's values at their centres).
 #[test]
 fn fits_to_copies_recover_their_models() {
-    use vk_render::analysis::fit::fit_measurement;
+    use vk_render::analysis::fit::{fit_measurement, FitModel};
     let dir = temp_dir();
     let models = [
         ("oren-nayar", Brdf::OrenNayar { kd: Vec3::new(0.6, 0.5, 0.4), sigma: 0.3 }),
@@ -469,7 +469,8 @@ fn fits_to_copies_recover_their_models() {
     ];
     for (name, model) in models {
         let copy = write_copy(&model, &dir.path().join(format!("{name}.binary")));
-        let fitted = fit_measurement(&mut renderer(), &copy, name, |_| {}).expect("fit").expect("a model");
+        let fitted =
+            fit_measurement(&mut renderer(), &copy, &FitModel::named(name).expect("a model"), |_| {}).expect("fit");
         let close = |a: f32, b: f32| (a - b).abs() <= 0.02 * b.abs().max(0.05);
         let close3 = |a: Vec3, b: Vec3| (0..3).all(|c| close(a[c], b[c]));
         let recovered = match (&fitted.brdf, &model) {
@@ -497,10 +498,11 @@ fn fits_to_copies_recover_their_models() {
 /// without the solid angle gives 0.116045 and one without the 80 degree limit 0.091413: both caught.
 #[test]
 fn the_ngan_measure_of_a_constant_table_is_worked_by_hand() {
-    use vk_render::analysis::fit::fit_measurement;
+    use vk_render::analysis::fit::{fit_measurement, FitModel};
     let dir = temp_dir();
     let copy = write_copy(&Brdf::Lambert { kd: Vec3::splat(0.5) }, &dir.path().join("lambert.binary"));
-    let fitted = fit_measurement(&mut renderer(), &copy, "lambert", |_| {}).expect("fit").expect("a model");
+    let fitted =
+        fit_measurement(&mut renderer(), &copy, &FitModel::named("lambert").expect("a model"), |_| {}).expect("fit");
     assert!((fitted.target_rms - 0.100_818).abs() <= 0.01 * 0.100_818, "{fitted:?}");
     assert!(matches!(fitted.brdf, Brdf::Lambert { kd } if (kd - Vec3::splat(0.5)).abs().max_element() < 1e-4));
 }

@@ -342,8 +342,8 @@ impl PyRenderer {
             entry.set_item("model", scene.objects[wrong.object].brdf.name())?;
             let (fitted, given) = (PyDict::new(py), PyDict::new(py));
             for (name, values, scene_values) in &wrong.differing {
-                fitted.set_item(*name, values.clone())?;
-                given.set_item(*name, scene_values.clone())?;
+                fitted.set_item(name, values.clone())?;
+                given.set_item(name, scene_values.clone())?;
             }
             entry.set_item("fitted", fitted)?;
             entry.set_item("scene", given)?;

@@ -13,7 +13,7 @@
 
 use image::RgbImage;
 
-use super::fit::{fit_values, Fit};
+use super::fit::{fit_values, Fit, FitModel};
 use crate::brdf::Brdf;
 use crate::error::{Error, Result};
 use crate::output::level;
@@ -37,18 +37,6 @@ pub struct ImageFit {
     pub residual_levels: f64,
     /// The same of the scene's own material.
     pub scene_levels: f64,
-    /// Each parameter of the fitted model with its standard error per component: the Gauss-Newton estimate
-    /// sqrt(s^2 (J^T J)^-1) at the fit, J the change of the fitted pixels' linear values with each parameter
-    /// and s^2 the residuals' variance; None for a parameter the pixels do not determine.
-    pub parameters: Vec<Determined>,
-}
-
-/// A parameter's value and how well it is determined.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Determined {
-    pub name: &'static str,
-    pub values: Vec<f32>,
-    pub errors: Vec<Option<f64>>,
 }
 
 /// The pixels of an object that a fit reads, and what the image says of each.
@@ -104,8 +92,7 @@ impl<'a> SceneImage<'a> {
         Ok(Self { scene, image, path, points: surface_points(scene)? })
     }
 
-    /// Fits `model` (one of [`super::fit::FIT_MODELS`]) to object `object`'s pixels; `progress` is told how
-    /// many models the solver has tried. `None` when the model is not one of them.
+    /// Fits `model` to object `object`'s pixels; `progress` is told how many models the solver has evaluated.
     ///
     /// # Errors
     /// `Error::Scene` for an object the scene lacks; `Error::Input` naming the image when it leaves too few
@@ -114,9 +101,9 @@ impl<'a> SceneImage<'a> {
         &self,
         renderer: &mut Renderer,
         object: usize,
-        model: &str,
+        model: &FitModel,
         progress: impl FnMut(usize),
-    ) -> Result<Option<ImageFit>> {
+    ) -> Result<ImageFit> {
         let scene = self.scene;
         let target = object_of(scene, object)?;
         let observed = observe(scene, &self.points, self.image, object);
@@ -132,17 +119,14 @@ impl<'a> SceneImage<'a> {
         }
         let weights = vec![1.0; observed.points.len()];
         let values = |brdfs: &[Brdf]| rendered_values(renderer, brdfs, &observed.points);
-        let Some(fit) = fit_values(&target.brdf, model, &observed.wanted, &weights, values, progress)? else {
-            return Ok(None);
-        };
+        let fit = fit_values(&target.brdf, model, &observed.wanted, &weights, values, progress)?;
         // The fitted model's render and the scene's own material's, in one probe.
         let mut renders =
             rendered_values(renderer, &[fit.brdf.clone(), target.brdf.clone()], &observed.points)?.into_iter();
         let (fitted, own) = (renders.next().unwrap_or_default(), renders.next().unwrap_or_default());
         let residual_levels = residual_levels(&fitted, &observed.levels, scene);
         let scene_levels = self::residual_levels(&own, &observed.levels, scene);
-        let parameters = determination(renderer, &fit.brdf, &observed, &fitted)?;
-        Ok(Some(ImageFit { pixels: observed.points.len(), residual_levels, scene_levels, parameters, fit }))
+        Ok(ImageFit { pixels: observed.points.len(), residual_levels, scene_levels, fit })
     }
 }
 
@@ -270,116 +254,9 @@ fn residual_levels(fitted: &[[f64; 3]], levels: &[[u8; 3]], scene: &Scene) -> f6
     (sum / (3 * fitted.len()) as f64).sqrt()
 }
 
-/// Each parameter of `brdf` with its standard error (see [`ImageFit::parameters`]); the derivatives by
-/// central differences of the probe's renders.
-fn determination(
-    renderer: &mut Renderer,
-    brdf: &Brdf,
-    observed: &Observed,
-    fitted: &[[f64; 3]],
-) -> Result<Vec<Determined>> {
-    let parameters = super::fit::parameters(brdf);
-    // One scalar per parameter component: (parameter, component, step).
-    let scalars: Vec<(usize, usize, f32)> = parameters
-        .iter()
-        .enumerate()
-        .flat_map(|(p, (_, values))| values.iter().enumerate().map(move |(c, &v)| (p, c, 1e-3 * v.abs().max(0.05))))
-        .collect();
-    let mut perturbed = Vec::new();
-    for &(p, c, step) in &scalars {
-        let value = parameters[p].1[c];
-        perturbed.push(super::fit::with_parameter(brdf, parameters[p].0, c, value + step));
-        perturbed.push(super::fit::with_parameter(brdf, parameters[p].0, c, value - step));
-    }
-    let values = rendered_values(renderer, &perturbed, &observed.points)?;
-    // J: one column per scalar, one row per pixel and channel.
-    let columns: Vec<Vec<f64>> = scalars
-        .iter()
-        .enumerate()
-        .map(|(k, &(_, _, step))| {
-            let (up, down) = (&values[2 * k], &values[2 * k + 1]);
-            up.iter()
-                .zip(down)
-                .flat_map(|(u, d)| (0..3).map(move |c| (u[c] - d[c]) / (2.0 * f64::from(step))))
-                .collect()
-        })
-        .collect();
-    let residuals: f64 =
-        fitted.iter().zip(&observed.wanted).flat_map(|(f, w)| (0..3).map(move |c| (f[c] - w[c]).powi(2))).sum();
-    let freedom = (3 * fitted.len()).saturating_sub(scalars.len()).max(1) as f64;
-    let variance = residuals / freedom;
-    let errors = standard_errors(&columns, variance);
-    let mut determined: Vec<Determined> = parameters
-        .iter()
-        .map(|(name, values)| Determined { name, values: values.clone(), errors: vec![None; values.len()] })
-        .collect();
-    for (&(p, c, _), error) in scalars.iter().zip(errors) {
-        determined[p].errors[c] = error;
-    }
-    Ok(determined)
-}
-
-/// sqrt(variance (J^T J)^-1) on the diagonal, J given by its columns; None for a column the others (or
-/// nothing) account for: the matrix is inverted over the columns that keep it well conditioned.
-fn standard_errors(columns: &[Vec<f64>], variance: f64) -> Vec<Option<f64>> {
-    let n = columns.len();
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-    let gram: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| dot(&columns[i], &columns[j])).collect()).collect();
-    // Gauss-Jordan with the columns as pivots in turn; a pivot below 1e-10 of its diagonal is a parameter
-    // the pixels do not determine (its column lies in the others' span): left out.
-    let mut a: Vec<Vec<f64>> = gram.clone();
-    let mut inverse: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| f64::from(u8::from(i == j))).collect()).collect();
-    let mut kept = vec![false; n];
-    for k in 0..n {
-        if a[k][k].abs() <= 1e-10 * gram[k][k].abs().max(f64::MIN_POSITIVE) || gram[k][k] == 0.0 {
-            continue;
-        }
-        kept[k] = true;
-        let pivot = a[k][k];
-        for j in 0..n {
-            a[k][j] /= pivot;
-            inverse[k][j] /= pivot;
-        }
-        for i in 0..n {
-            if i != k {
-                let factor = a[i][k];
-                for j in 0..n {
-                    a[i][j] -= factor * a[k][j];
-                    inverse[i][j] -= factor * inverse[k][j];
-                }
-            }
-        }
-    }
-    // The dropped columns' rows and columns must not feed the kept ones: invert again over the kept alone.
-    if kept.iter().any(|k| !k) {
-        let indices: Vec<usize> = (0..n).filter(|&k| kept[k]).collect();
-        let sub: Vec<Vec<f64>> = indices.iter().map(|&k| columns[k].clone()).collect();
-        let errors = standard_errors(&sub, variance);
-        let mut all = vec![None; n];
-        for (&k, e) in indices.iter().zip(errors) {
-            all[k] = e;
-        }
-        return all;
-    }
-    (0..n).map(|k| Some((variance * inverse[k][k]).max(0.0).sqrt())).collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn standard_errors_of_a_line_by_hand() {
-        // y = a + b x at x = 0, 1, 2, 3 with residual variance 1: (J^T J)^-1 = [[7, -3], [-3, 2]] / 10.
-        let columns = vec![vec![1.0, 1.0, 1.0, 1.0], vec![0.0, 1.0, 2.0, 3.0]];
-        let errors = standard_errors(&columns, 1.0);
-        assert!((errors[0].unwrap() - 0.7f64.sqrt()).abs() < 1e-12);
-        assert!((errors[1].unwrap() - 0.2f64.sqrt()).abs() < 1e-12);
-        // A column that repeats another is not determined; the other is, alone.
-        let errors = standard_errors(&[vec![1.0, 2.0], vec![2.0, 4.0]], 1.0);
-        assert_eq!(errors[1], None);
-        assert!((errors[0].unwrap() - 0.2f64.sqrt()).abs() < 1e-12);
-    }
 
     #[test]
     fn levels_invert_the_output_transform() {

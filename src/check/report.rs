@@ -8,9 +8,8 @@ use image::RgbImage;
 use super::catalogue::{Mistake, ShowsOn, CATALOGUE};
 use super::MATCH_RMS;
 use super::{diagnose, regions, render_candidates, scene_that_tells_apart, Candidate, Diagnosis, Region, Verdict};
-use crate::analysis::fit::parameters;
+use crate::analysis::fit::{parameters, FitModel};
 use crate::analysis::image_fit::{ImageFit, SceneImage};
-use crate::brdf::Brdf;
 use crate::error::{Error, Result};
 use crate::figures::practical_image;
 use crate::render::Renderer;
@@ -37,7 +36,7 @@ pub struct WrongParameters {
     /// The fit of the object's model to the image.
     pub fitted: ImageFit,
     /// The parameters that differ from the scene's: name, the fitted components, the scene's.
-    pub differing: Vec<(&'static str, Vec<f32>, Vec<f32>)>,
+    pub differing: Vec<(String, Vec<f32>, Vec<f32>)>,
 }
 
 /// A fit explains an object's pixels when its residual is within the match tolerance and at most this share
@@ -58,28 +57,28 @@ fn wrong_parameters(renderer: &mut Renderer, mine: &RgbImage, scene: &Scene) -> 
         Err(other) => return Err(other),
     };
     for (object, target) in scene.objects.iter().enumerate() {
-        if matches!(target.brdf, Brdf::Measured(_)) {
-            continue;
-        }
-        let fitted = match image.fit(renderer, object, target.brdf.name(), |_| {}) {
-            Ok(Some(fitted)) => fitted,
-            Ok(None) | Err(Error::Scene { .. } | Error::Input { .. }) => continue,
+        let Some(model) = FitModel::of(&target.brdf) else { continue };
+        let fitted = match image.fit(renderer, object, &model, |_| {}) {
+            Ok(fitted) => fitted,
+            Err(Error::Scene { .. } | Error::Input { .. }) => continue,
             Err(other) => return Err(other),
         };
         if fitted.residual_levels > MATCH_RMS || fitted.residual_levels > EXPLAINS * fitted.scene_levels {
             continue;
         }
+        let given = parameters(&target.brdf);
         let differing: Vec<_> = fitted
+            .fit
             .parameters
             .iter()
-            .zip(parameters(&target.brdf))
-            .filter(|(p, (_, given))| {
-                p.values.iter().zip(given).zip(&p.errors).any(|((&value, &given), error)| {
+            .filter_map(|p| given.iter().find(|(name, _)| *name == p.name).map(|(_, given)| (p, given)))
+            .filter(|(p, given)| {
+                p.values.iter().zip(*given).zip(&p.errors).any(|((&value, &given), error)| {
                     let tolerance = (3.0 * error.unwrap_or(0.0)).max(0.02 * f64::from(given.abs())).max(0.01);
                     f64::from((value - given).abs()) > tolerance
                 })
             })
-            .map(|(p, (_, given))| (p.name, p.values.clone(), given))
+            .map(|(p, given)| (p.name.clone(), p.values.clone(), given.clone()))
             .collect();
         if !differing.is_empty() {
             found.push(WrongParameters { object, fitted, differing });

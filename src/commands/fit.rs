@@ -1,19 +1,20 @@
-//! `vk-render fit`: the parameters of one model (or of every model, ranked) that best match a material,
-//! printed, and with `-o` the lobes overlaid; a measured material by the measure of Ngan et al. 2005; a folder
-//! of MERL files as the table of every material by every model; an object's pixels in an image of its scene.
+//! `vk-render fit`: the parameters of one model (or of several, ranked) that best match a material, printed
+//! with their standard errors, and with `-o` the lobes overlaid; a measured material by the measure of Ngan et
+//! al. 2005; a folder of MERL files as the table of every material by every model; an object's pixels in an
+//! image of its scene. A model is one of the course's or a `.brdf` file (or every file of a folder).
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{progress, SetArgs};
+use super::{counter, SetArgs};
 use vk_render::analysis::fit::{
-    fit, fit_measurement, parameters, Fit, DEFAULT_THETA_I, FIT_MODELS, FIT_STEPS, NGAN_MAX_THETA,
+    fit, fit_measurement, parameters, Determined, Fit, FitModel, DEFAULT_THETA_I, FIT_MODELS, NGAN_MAX_THETA,
 };
-use vk_render::analysis::image_fit::{object_of, Determined, SceneImage};
+use vk_render::analysis::image_fit::{object_of, SceneImage};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::{describe, rgb, select_materials, Channel, NamedBrdf};
-use vk_render::brdf::{Brdf, Measured};
+use vk_render::brdf::{Analytic, AnalyticModel, Brdf, Measured};
 use vk_render::chart::{write_chart, ChartFile, LineChart, LobeChart, Series, PALETTE};
 use vk_render::check::report::read_image;
 use vk_render::output::write_file;
@@ -45,10 +46,16 @@ pub struct FitArgs {
     #[arg(long, value_name = "NAME")]
     material: Option<String>,
 
-    /// The model to fit to it, or "all": every model, ranked by their residuals.
-    #[arg(long, value_name = "MODEL", value_parser = clap::builder::PossibleValuesParser::new(
-        FIT_MODELS.iter().chain(&[ALL]).copied().collect::<Vec<_>>()))]
-    to: String,
+    /// The model to fit to it: one of the course's (lambert, oren-nayar, phong, blinn-phong, cook-torrance),
+    /// "all" for every one of those, a .brdf file, or a folder of .brdf files; several, comma-separated, are
+    /// ranked by their residuals.
+    #[arg(long, value_name = "MODEL,...", value_delimiter = ',', required = true)]
+    to: Vec<String>,
+
+    /// Parameters of a .brdf model kept at their values (the file's defaults) instead of fitted; its bools
+    /// always are.
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',')]
+    hold: Vec<String>,
 
     /// The incidence angles the lobes are matched over (an analytic material) or drawn at (-o), degrees
     /// from the normal, 0 to below 90.
@@ -76,7 +83,7 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
             anyhow::bail!("--theta-i {theta_i}: an incidence angle is from 0 to below 90 degrees");
         }
     }
-    let models: Vec<&str> = if args.to == ALL { FIT_MODELS.to_vec() } else { vec![args.to.as_str()] };
+    let models = fit_models(&args.to, &args.hold)?;
     if let (Some(image), Some(scene), Some(object)) = (&args.image, &args.image_scene, args.object) {
         return run_image(&args, image, scene, object, &models, options);
     }
@@ -102,7 +109,7 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
     let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let mut fits = Vec::new();
     for model in &models {
-        fits.push((*model, fit_to(&mut renderer, &target.brdf, model, &args.theta_i)?));
+        fits.push((model.name(), fit_to(&mut renderer, &target.brdf, model, &args.theta_i)?));
     }
     print_fits(&target, &fits, &args.theta_i);
     if let Some(output) = &args.output {
@@ -111,16 +118,68 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One fit, with a progress bar: by Ngan et al.'s measure for a measurement, over the hemisphere otherwise.
-fn fit_to(renderer: &mut Renderer, target: &Brdf, model: &str, theta_i: &[f64]) -> anyhow::Result<Fit> {
-    let bar = progress(FIT_STEPS, model);
+/// The models `--to` names (see [`FitArgs`]), each analytic one holding those of `held` it has.
+fn fit_models(to: &[String], held: &[String]) -> anyhow::Result<Vec<FitModel>> {
+    let mut models = Vec::new();
+    let mut analytic = Vec::new();
+    for name in to {
+        if name == ALL {
+            models.extend(FIT_MODELS.iter().filter_map(|m| FitModel::named(m)));
+        } else if let Some(model) = FitModel::named(name) {
+            models.push(model);
+        } else if Path::new(name).is_dir() {
+            analytic.extend(files_in(Path::new(name), "brdf", &format!("--to {name}"), ".brdf file")?);
+        } else if name.ends_with(".brdf") {
+            analytic.push(PathBuf::from(name));
+        } else {
+            anyhow::bail!(
+                "--to {name}: not a model (expected one of {}, {ALL}, a .brdf file or a folder of them)",
+                FIT_MODELS.join(", ")
+            );
+        }
+    }
+    for file in &analytic {
+        let model = AnalyticModel::load(file).map_err(|e| anyhow::anyhow!("--to: {e}"))?;
+        let start = Analytic::defaults(model);
+        let kept: Vec<String> = held.iter().filter(|h| start.value(h).is_some()).cloned().collect();
+        models.push(FitModel::analytic(start, kept).map_err(anyhow::Error::msg)?);
+    }
+    if let Some(missing) = held
+        .iter()
+        .find(|h| !models.iter().any(|m| matches!(m, FitModel::Analytic { start, .. } if start.value(h).is_some())))
+    {
+        let names: Vec<String> = models.iter().map(FitModel::name).collect();
+        anyhow::bail!("--hold {missing}: none of the models fitted ({}) has such a parameter", names.join(", "));
+    }
+    Ok(models)
+}
+
+/// The files of `folder` whose extension is `extension`, sorted; an error naming the folder (`what`: how the
+/// message calls it) when it cannot be read or holds none, `none` saying what it lacks.
+fn files_in(folder: &Path, extension: &str, what: &str, none: &str) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
+        .map_err(|e| anyhow::anyhow!("{what}: cannot be read: {e}"))?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().and_then(|e| e.to_str()) == Some(extension))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        anyhow::bail!("{what}: holds no {none}");
+    }
+    Ok(files)
+}
+
+/// One fit, with a counter of the models evaluated: by Ngan et al.'s measure for a measurement, over the
+/// hemisphere otherwise.
+fn fit_to(renderer: &mut Renderer, target: &Brdf, model: &FitModel, theta_i: &[f64]) -> anyhow::Result<Fit> {
+    let bar = counter(&model.name(), "models evaluated");
     let tried = |tried: usize| bar.set_position(tried as u64);
     let fitted = match target {
         Brdf::Measured(measured) => fit_measurement(renderer, measured, model, tried)?,
         _ => fit(renderer, target, model, theta_i, tried)?,
     };
     bar.finish_and_clear();
-    fitted.ok_or_else(|| anyhow::anyhow!("--to {model}: not a model (expected one of {})", FIT_MODELS.join(", ")))
+    Ok(fitted)
 }
 
 /// The measure's words, for the printed lines.
@@ -134,14 +193,14 @@ fn measure_words(target: &Brdf, theta_i: &[f64]) -> String {
         _ => {
             let angles: Vec<String> = theta_i.iter().map(f64::to_string).collect();
             format!(
-                "over theta_i = {} degrees (root mean square of f_r cos theta_o over the hemispheres, luminance)",
+                "over theta_i = {} degrees (root mean square of f_r cos theta_o over the hemispheres and red, green and blue)",
                 angles.join(", ")
             )
         }
     }
 }
 
-fn print_fits(target: &NamedBrdf, fits: &[(&str, Fit)], theta_i: &[f64]) {
+fn print_fits(target: &NamedBrdf, fits: &[(String, Fit)], theta_i: &[f64]) {
     let relative = |fit: &Fit| 100.0 * fit.residual / fit.target_rms.max(f64::MIN_POSITIVE);
     if let [(model, fitted)] = fits {
         println!(
@@ -150,8 +209,8 @@ fn print_fits(target: &NamedBrdf, fits: &[(&str, Fit)], theta_i: &[f64]) {
             describe(&target.brdf),
             measure_words(&target.brdf, theta_i)
         );
-        for (name, value) in parameter_lines(&fitted.brdf) {
-            println!("{name} = {value}");
+        for line in parameter_lines(fitted, "samples") {
+            println!("{line}");
         }
         println!(
             "residual = {:.6} (the material's own: {:.6}, so {:.2}%)",
@@ -159,7 +218,7 @@ fn print_fits(target: &NamedBrdf, fits: &[(&str, Fit)], theta_i: &[f64]) {
             fitted.target_rms,
             relative(fitted)
         );
-        if let (Brdf::CookTorrance { roughness, .. }, "blinn-phong" | "phong") = (&target.brdf, *model) {
+        if let (Brdf::CookTorrance { roughness, .. }, "blinn-phong" | "phong") = (&target.brdf, model.as_str()) {
             let alpha = f64::from(*roughness * *roughness);
             println!(
                 "Walter et al. 2007: shininess = 2 / alpha^2 - 2 = {:.1} for alpha = roughness^2 = {alpha:.4} (that \
@@ -170,16 +229,17 @@ fn print_fits(target: &NamedBrdf, fits: &[(&str, Fit)], theta_i: &[f64]) {
         return;
     }
     println!(
-        "{} ({}) fitted with every model {}, best first:",
+        "{} ({}) fitted with {} models {}, best first:",
         target.name,
         describe(&target.brdf),
+        fits.len(),
         measure_words(&target.brdf, theta_i)
     );
-    let mut ranked: Vec<&(&str, Fit)> = fits.iter().collect();
+    let mut ranked: Vec<&(String, Fit)> = fits.iter().collect();
     ranked.sort_by(|a, b| a.1.residual.total_cmp(&b.1.residual));
     for (rank, (model, fitted)) in ranked.into_iter().enumerate() {
         let values: Vec<String> =
-            parameter_lines(&fitted.brdf).into_iter().map(|(n, v)| format!("{n} = {v}")).collect();
+            parameter_values(&fitted.brdf).into_iter().map(|(n, v)| format!("{n} = {v}")).collect();
         println!(
             "{}. {model:<14} residual {:.6} ({:.2}%)  {}",
             rank + 1,
@@ -195,7 +255,7 @@ fn print_fits(target: &NamedBrdf, fits: &[(&str, Fit)], theta_i: &[f64]) {
 fn draw_lobes(
     renderer: &mut Renderer,
     target: &NamedBrdf,
-    fits: &[(&str, Fit)],
+    fits: &[(String, Fit)],
     theta_i: &[f64],
     output: &Path,
 ) -> anyhow::Result<()> {
@@ -210,7 +270,7 @@ fn draw_lobes(
         let values = lobes(renderer, &brdfs, &cut)?;
         let angle_colour = PALETTE[k % PALETTE.len()];
         incident.push((theta, if several { plotters::style::BLACK } else { angle_colour }));
-        let labels = std::iter::once(target.name.as_str()).chain(fits.iter().map(|(m, _)| *m));
+        let labels = std::iter::once(target.name.as_str()).chain(fits.iter().map(|(m, _)| m.as_str()));
         for (index, (values, label)) in values.into_iter().zip(labels).enumerate() {
             let colour = match (several, index) {
                 (true, 0) => plotters::style::BLACK,
@@ -231,7 +291,7 @@ fn draw_lobes(
             });
         }
     }
-    let models: Vec<&str> = fits.iter().map(|(m, _)| *m).collect();
+    let models: Vec<&str> = fits.iter().map(|(m, _)| m.as_str()).collect();
     let chart = LobeChart {
         title: format!(
             "{} and its {} fit{} (dashed): f_r cos θo, plane of incidence",
@@ -249,7 +309,7 @@ fn draw_lobes(
 
 /// Every MERL file of a folder fitted with every model: printed as each is done, then the CSV table and the
 /// sorted residuals' chart.
-fn run_folder(args: &FitArgs, folder: &Path, models: &[&str], options: RendererOptions) -> anyhow::Result<()> {
+fn run_folder(args: &FitArgs, folder: &Path, models: &[FitModel], options: RendererOptions) -> anyhow::Result<()> {
     if args.material.is_some() {
         anyhow::bail!("--material: a folder's materials are its MERL files, every one fitted");
     }
@@ -263,15 +323,7 @@ fn run_folder(args: &FitArgs, folder: &Path, models: &[&str], options: RendererO
             anyhow::bail!("{}: the residuals are drawn as .png or .svg", chart.display());
         }
     }
-    let mut files: Vec<PathBuf> = std::fs::read_dir(folder)
-        .map_err(|e| anyhow::anyhow!("{}: cannot be read: {e}", folder.display()))?
-        .filter_map(|entry| entry.ok().map(|e| e.path()))
-        .filter(|path| path.extension().and_then(|e| e.to_str()) == Some("binary"))
-        .collect();
-    files.sort();
-    if files.is_empty() {
-        anyhow::bail!("{}: holds no MERL file (NAME.binary)", folder.display());
-    }
+    let files = files_in(folder, "binary", &folder.display().to_string(), "MERL file (NAME.binary)")?;
     let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let mut table: Vec<(String, Vec<f64>)> = Vec::new();
     for file in &files {
@@ -282,12 +334,13 @@ fn run_folder(args: &FitArgs, folder: &Path, models: &[&str], options: RendererO
             let fitted = fit_to(&mut renderer, &Brdf::Measured(measured.clone()), model, &args.theta_i)?;
             residuals.push(fitted.residual);
         }
-        let cells: Vec<String> = models.iter().zip(&residuals).map(|(m, r)| format!("{m} {r:.6}")).collect();
+        let cells: Vec<String> = models.iter().zip(&residuals).map(|(m, r)| format!("{} {r:.6}", m.name())).collect();
         println!("{name}: {}", cells.join(", "));
         table.push((name, residuals));
     }
+    let names: Vec<String> = models.iter().map(FitModel::name).collect();
     if let Some(output) = &args.output {
-        let mut csv = format!("material,{}\n", models.join(","));
+        let mut csv = format!("material,{}\n", names.join(","));
         for (name, residuals) in &table {
             let cells: Vec<String> = residuals.iter().map(f64::to_string).collect();
             csv.push_str(&format!("{name},{}\n", cells.join(",")));
@@ -295,14 +348,14 @@ fn run_folder(args: &FitArgs, folder: &Path, models: &[&str], options: RendererO
         write_file(output, csv.as_bytes())?;
     }
     if let Some(chart) = &args.chart {
-        write_chart(&sorted_residuals(models, &table), chart)?;
+        write_chart(&sorted_residuals(&names, &table), chart)?;
     }
     Ok(())
 }
 
 /// Each model's residuals over the materials, sorted, on a log scale (Ngan et al. 2005's figure of the
 /// fitting errors).
-fn sorted_residuals(models: &[&str], table: &[(String, Vec<f64>)]) -> LineChart {
+fn sorted_residuals(models: &[String], table: &[(String, Vec<f64>)]) -> LineChart {
     let series: Vec<Series> = models
         .iter()
         .enumerate()
@@ -310,7 +363,7 @@ fn sorted_residuals(models: &[&str], table: &[(String, Vec<f64>)]) -> LineChart 
             let mut residuals: Vec<f64> = table.iter().map(|(_, r)| r[k].max(1e-12).log10()).collect();
             residuals.sort_by(f64::total_cmp);
             Series {
-                label: (*model).to_string(),
+                label: model.clone(),
                 colour: PALETTE[k % PALETTE.len()],
                 points: residuals.into_iter().enumerate().map(|(i, r)| ((i + 1) as f64, r)).collect(),
                 dashed: false,
@@ -338,7 +391,7 @@ fn run_image(
     image_path: &Path,
     scene_path: &Path,
     object: usize,
-    models: &[&str],
+    models: &[FitModel],
     options: RendererOptions,
 ) -> anyhow::Result<()> {
     if args.material.is_some() || args.output.is_some() || args.chart.is_some() {
@@ -353,10 +406,10 @@ fn run_image(
     let image = SceneImage::new(&scene, &image, image_path)?;
     let mut fits = Vec::new();
     for model in models {
-        let bar = progress(FIT_STEPS, model);
+        let bar = counter(&model.name(), "models evaluated");
         let fitted = image.fit(&mut renderer, object, model, |t| bar.set_position(t as u64))?;
         bar.finish_and_clear();
-        fits.push((*model, fitted.ok_or_else(|| anyhow::anyhow!("--to {model}: not a model"))?));
+        fits.push((model.name(), fitted));
     }
     fits.sort_by(|a, b| a.1.residual_levels.total_cmp(&b.1.residual_levels));
     for (rank, (model, fitted)) in fits.iter().enumerate() {
@@ -368,8 +421,8 @@ fn run_image(
             image_path.display(),
             fitted.pixels
         );
-        for parameter in &fitted.parameters {
-            println!("{}", determined_line(parameter));
+        for line in parameter_lines(&fitted.fit, "pixels") {
+            println!("{line}");
         }
         println!(
             "residual = {:.2} levels (root mean square over the pixels' channels; the scene's own {}: {:.2})",
@@ -382,19 +435,25 @@ fn run_image(
 }
 
 /// `name = value ± error`, colours as `[r, g, b] ± [er, eg, eb]`, each value to the digits its error
-/// allows; "(not determined by these pixels)" for an error there is none of.
-fn determined_line(parameter: &Determined) -> String {
-    let shown = |value: f32, error: Option<f64>| match error {
-        Some(error) if error > 0.0 => {
-            let decimals = (1 - error.log10().floor() as i32).clamp(0, 8) as usize;
-            (format!("{value:.decimals$}"), format!("{error:.decimals$}"))
+/// allows (two of the error's, at most the six significant digits an f32 fit holds and six decimals); "(? : not determined
+/// by these SAMPLES)" for an error there is none of.
+fn determined_line(parameter: &Determined, samples: &str) -> String {
+    let shown = |value: f32, error: Option<f64>| {
+        let magnitude = if value == 0.0 { 0 } else { f64::from(value.abs()).log10().floor() as i32 };
+        let most = (5 - magnitude).clamp(0, 6);
+        match error {
+            Some(error) => {
+                let decimals = if error > 0.0 { (1 - error.log10().floor() as i32).min(most) } else { most };
+                let decimals = decimals.max(0) as usize;
+                (format!("{value:.decimals$}"), format!("{error:.decimals$}"))
+            }
+            None => (value.to_string(), "?".into()),
         }
-        _ => (value.to_string(), "?".into()),
     };
     let pairs: Vec<(String, String)> =
         parameter.values.iter().zip(&parameter.errors).map(|(&v, &e)| shown(v, e)).collect();
     let undetermined = parameter.errors.iter().any(Option::is_none);
-    let note = if undetermined { " (? : not determined by these pixels)" } else { "" };
+    let note = if undetermined { format!(" (? : not determined by these {samples})") } else { String::new() };
     if let [(value, error)] = &pairs[..] {
         return format!("{} = {value} ± {error}{note}", parameter.name);
     }
@@ -403,10 +462,27 @@ fn determined_line(parameter: &Determined) -> String {
     format!("{} = [{}] ± [{}]{note}", parameter.name, values.join(", "), errors.join(", "))
 }
 
+/// A fit's parameters, one line each: those it determined with their errors ([`determined_line`]), those it
+/// held (an analytic model's) as they were.
+fn parameter_lines(fitted: &Fit, samples: &str) -> Vec<String> {
+    let mut lines: Vec<String> = parameter_values(&fitted.brdf)
+        .into_iter()
+        .map(|(name, value)| match fitted.parameters.iter().find(|p| p.name == name) {
+            Some(determined) => determined_line(determined, samples),
+            None => format!("{name} = {value} (held)"),
+        })
+        .collect();
+    if let Brdf::Analytic(material) = &fitted.brdf {
+        let bools = material.values().filter(|(p, _)| matches!(p.kind, vk_render::brdf::ParameterKind::Bool { .. }));
+        lines.extend(bools.map(|(p, v)| format!("{} = {v} (held)", p.name)));
+    }
+    lines
+}
+
 /// The model's parameters as `name = value` lines would name them.
-fn parameter_lines(brdf: &Brdf) -> Vec<(&'static str, String)> {
+fn parameter_values(brdf: &Brdf) -> Vec<(String, String)> {
     if let Brdf::Measured(table) = brdf {
-        return vec![("file", format!("{:?}", table.path().display().to_string()))];
+        return vec![("file".into(), format!("{:?}", table.path().display().to_string()))];
     }
     parameters(brdf)
         .into_iter()

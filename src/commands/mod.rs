@@ -205,6 +205,18 @@ pub fn print_accuracy(renderer: &Renderer) {
     }
 }
 
+/// A counter on standard error for a search whose length is not known ahead (a fit's models evaluated).
+pub fn counter(what: &str, unit: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new_spinner();
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template(&format!("{{msg}} {{spinner}} {{pos}} {unit} ({{elapsed}})"))
+    {
+        bar.set_style(style);
+    }
+    bar.set_message(what.to_string());
+    bar
+}
+
 /// A progress bar on standard error for a long command (sweeps, figures, fits, furnace tables, albedos):
 /// drawn only when standard error is a terminal (indicatif draws nothing otherwise, so scripts and pipes see
 /// no such output), cleared when dropped.

@@ -195,16 +195,18 @@ fn compile_alone(wrapper: &str) -> Result<(), parse::ParseError> {
     }
 }
 
-/// A material of an analytic model: the model and a value for each of its parameters.
+/// A material of an analytic model: the model and a value for each of its parameters. The values are shared
+/// between clones (a fit's probe holds one per sample: a clone is two counts, not an allocation).
 #[derive(Clone)]
 pub struct Analytic {
     model: Arc<AnalyticModel>,
-    values: Vec<ParameterValue>,
+    values: Arc<Vec<ParameterValue>>,
 }
 
 impl PartialEq for Analytic {
     fn eq(&self, other: &Self) -> bool {
-        self.model.key == other.model.key && self.values == other.values
+        let same_model = Arc::ptr_eq(&self.model, &other.model) || self.model.key == other.model.key;
+        same_model && (Arc::ptr_eq(&self.values, &other.values) || self.values == other.values)
     }
 }
 
@@ -217,7 +219,7 @@ impl fmt::Debug for Analytic {
 impl Analytic {
     /// The model with every parameter at its default.
     pub fn defaults(model: Arc<AnalyticModel>) -> Self {
-        let values = model.parameters.iter().map(|p| p.kind.default_value()).collect();
+        let values = Arc::new(model.parameters.iter().map(|p| p.kind.default_value()).collect());
         Self { model, values }
     }
 
@@ -282,7 +284,7 @@ impl Analytic {
                 ));
             }
         };
-        self.values[index] = value;
+        Arc::make_mut(&mut self.values)[index] = value;
         Ok(self)
     }
 
@@ -290,7 +292,7 @@ impl Analytic {
     /// colour's three components (`analytic_brdf` of the model's GLSL reads them so).
     pub fn floats(&self) -> Vec<f32> {
         let mut floats = Vec::with_capacity(self.values.len() + 2);
-        for value in &self.values {
+        for value in self.values.iter() {
             match *value {
                 ParameterValue::Float(v) => floats.push(v),
                 ParameterValue::Bool(b) => floats.push(if b { 1.0 } else { 0.0 }),
