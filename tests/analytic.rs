@@ -4,17 +4,11 @@
 
 mod common;
 
-use std::sync::Arc;
-
 use common::*;
 use glam::{Mat3, Vec3};
-use vk_render::brdf::{default_tangent, Analytic, AnalyticModel, Brdf, DiffuseModel, ParameterValue};
+use vk_render::brdf::{default_tangent, Analytic, Brdf, DiffuseModel, ParameterValue};
 use vk_render::figures::FIGURES;
 use vk_render::render::ProbeCase;
-
-fn shipped(file: &str) -> Arc<AnalyticModel> {
-    AnalyticModel::load(&root().join("assets/brdfs").join(file)).expect("a shipped model loads")
-}
 
 /// A material of a shipped model with some parameters set.
 fn material(file: &str, values: &[(&str, ParameterValue)]) -> Brdf {

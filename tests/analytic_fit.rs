@@ -9,14 +9,9 @@ use std::time::Instant;
 
 use common::*;
 use glam::Vec3;
+use vk_render::analysis;
 use vk_render::analysis::fit::{fit, fit_measurement, Fit, FitModel, DEFAULT_THETA_I};
-use vk_render::brdf::measured::entry_directions;
-use vk_render::brdf::{Analytic, AnalyticModel, Brdf, Measured, MeasuredTable, ParameterValue};
-use vk_render::render::ProbeCase;
-
-fn shipped(file: &str) -> Arc<AnalyticModel> {
-    AnalyticModel::load(&root().join("assets/brdfs").join(file)).expect("a shipped model loads")
-}
+use vk_render::brdf::{Analytic, AnalyticModel, Brdf, Measured, ParameterValue};
 
 fn colour(r: f32, g: f32, b: f32) -> ParameterValue {
     ParameterValue::Color(Vec3::new(r, g, b))
@@ -33,12 +28,10 @@ fn material(model: &Arc<AnalyticModel>, values: &[(&str, ParameterValue)]) -> An
     })
 }
 
-/// A MERL table of `brdf` as `vk-render tabulate` writes it: the probe pass at every entry's centre.
+/// A MERL table of `brdf` as `vk-render tabulate` writes a `.brdf` file's: the probe pass at every entry's
+/// centre.
 fn tabulated(brdf: &Brdf) -> Measured {
-    let cases: Vec<ProbeCase> =
-        entry_directions().into_iter().map(|(wi, wo)| ProbeCase { brdf: brdf.clone(), n: Vec3::Z, wi, wo }).collect();
-    let values = renderer().probe_brdfs(&cases).expect("probe");
-    Measured::from_table(MeasuredTable::from_entries("copy.binary".into(), &values))
+    Measured::from_table(analysis::tabulated(&mut renderer(), brdf, "copy.binary".into()).expect("probe"))
 }
 
 /// Whether every parameter the fit determined is within 2% of the target's (of 0.05 for one near 0).
@@ -68,19 +61,12 @@ fn recovered(fitted: &Fit, target: &Analytic) -> Result<(), String> {
 fn every_shipped_models_tabulated_copy_gives_back_its_parameters() {
     // A file, the values it is tabulated at, the parameters held.
     type Case = (&'static str, Vec<(&'static str, ParameterValue)>, Vec<String>);
+    let phong = vec![("kd", colour(0.5, 0.3, 0.2)), ("ks", colour(0.3, 0.3, 0.2)), ("shininess", float(40.0))];
     let cases: Vec<Case> = vec![
         ("lambert.brdf", vec![("kd", colour(0.6, 0.4, 0.2))], vec![]),
         ("oren_nayar.brdf", vec![("kd", colour(0.6, 0.4, 0.2)), ("sigma", float(0.6))], vec![]),
-        (
-            "phong.brdf",
-            vec![("kd", colour(0.5, 0.3, 0.2)), ("ks", colour(0.3, 0.3, 0.2)), ("shininess", float(40.0))],
-            vec![],
-        ),
-        (
-            "blinn_phong.brdf",
-            vec![("kd", colour(0.5, 0.3, 0.2)), ("ks", colour(0.3, 0.3, 0.2)), ("shininess", float(40.0))],
-            vec![],
-        ),
+        ("phong.brdf", phong.clone(), vec![]),
+        ("blinn_phong.brdf", phong, vec![]),
         (
             "cook_torrance.brdf",
             vec![

@@ -11,11 +11,26 @@ pub mod lobe;
 pub mod lobe3d;
 pub mod slice;
 
+use std::path::PathBuf;
+
 use glam::Vec3;
 
-use crate::brdf::{Brdf, DiffuseModel};
+use crate::brdf::measured::entry_directions;
+use crate::brdf::{Brdf, DiffuseModel, MeasuredTable};
 use crate::error::{Error, Result};
+use crate::render::{ProbeCase, Renderer};
 use crate::scene::Scene;
+
+/// `brdf` as a MERL table (to be written to `path`), as if measured: the probe pass (`brdf_eval`, the GLSL the
+/// renders run) at the centre of every entry. `vk-render tabulate` writes a `.brdf` file's so.
+///
+/// # Errors
+/// What the probe pass returns.
+pub fn tabulated(renderer: &mut Renderer, brdf: &Brdf, path: PathBuf) -> Result<MeasuredTable> {
+    let cases: Vec<ProbeCase> =
+        entry_directions().into_iter().map(|(wi, wo)| ProbeCase { brdf: brdf.clone(), n: Vec3::Z, wi, wo }).collect();
+    Ok(MeasuredTable::from_entries(path, &renderer.probe_brdfs(&cases)?))
+}
 
 /// A material of a scene, by its `[material.NAME]`.
 #[derive(Clone, Debug, PartialEq)]

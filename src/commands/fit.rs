@@ -435,8 +435,8 @@ fn run_image(
 }
 
 /// `name = value ± error`, colours as `[r, g, b] ± [er, eg, eb]`, each value to the digits its error
-/// allows (two of the error's, at most the six significant digits an f32 fit holds and six decimals); "(? : not determined
-/// by these SAMPLES)" for an error there is none of.
+/// allows (two of the error's, at most the six significant digits an f32 fit holds and six decimals);
+/// "(? : not determined by these SAMPLES)" for an error there is none of.
 fn determined_line(parameter: &Determined, samples: &str) -> String {
     let shown = |value: f32, error: Option<f64>| {
         let magnitude = if value == 0.0 { 0 } else { f64::from(value.abs()).log10().floor() as i32 };

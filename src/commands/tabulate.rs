@@ -7,10 +7,9 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::SetArgs;
-use vk_render::analysis::{describe, select_materials};
-use vk_render::brdf::measured::{entry_directions, FILE_BYTES};
+use vk_render::analysis::{describe, select_materials, tabulated};
+use vk_render::brdf::measured::FILE_BYTES;
 use vk_render::brdf::{Brdf, MeasuredTable};
-use vk_render::render::ProbeCase;
 use vk_render::{Renderer, RendererOptions, Scene};
 
 #[derive(Args)]
@@ -37,12 +36,8 @@ pub fn run(args: TabulateArgs, options: RendererOptions) -> anyhow::Result<()> {
     let target = select_materials(&scene, Some(std::slice::from_ref(&args.material)))?.remove(0);
     let table = match &target.brdf {
         Brdf::Analytic(_) => {
-            let cases: Vec<ProbeCase> = entry_directions()
-                .into_iter()
-                .map(|(wi, wo)| ProbeCase { brdf: target.brdf.clone(), n: glam::Vec3::Z, wi, wo })
-                .collect();
             let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
-            MeasuredTable::from_entries(args.output.clone(), &renderer.probe_brdfs(&cases)?)
+            tabulated(&mut renderer, &target.brdf, args.output.clone())?
         }
         brdf => MeasuredTable::tabulate(args.output.clone(), |wi, wo| brdf.eval(glam::Vec3::Z, wi, wo)),
     };

@@ -11,6 +11,11 @@ use std::sync::{Mutex, MutexGuard, OnceLock};
 use vk_render::compare::{compare, silhouette_band, write_failure_images, Comparison};
 use vk_render::{reference, HdrImage, Override, Renderer, RendererOptions, Scene};
 
+/// A `.brdf` model the project ships (`assets/brdfs/FILE`).
+pub fn shipped(file: &str) -> std::sync::Arc<vk_render::brdf::AnalyticModel> {
+    vk_render::brdf::AnalyticModel::load(&root().join("assets/brdfs").join(file)).expect("a shipped model loads")
+}
+
 /// The repository's root.
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

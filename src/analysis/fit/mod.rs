@@ -16,13 +16,13 @@ use glam::Vec3;
 use family::{analytic_family, linear_colours, Family};
 use solver::{solve, Problem};
 
-/// Each brdf's values at every sample (f_r times the sample's cosine), from the probe pass.
-type Values<'a> = dyn FnMut(&[Brdf]) -> Result<Vec<Vec<[f64; 3]>>> + 'a;
-
 use crate::brdf::measured::{directions_at, entry_angles, entry_index, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use crate::brdf::{Analytic, Brdf, DiffuseModel, Measured, ParameterKind, ParameterValue};
 use crate::error::{Error, Result};
 use crate::render::{ProbeCase, Renderer};
+
+/// Each brdf's values at every sample (f_r times the sample's cosine), from the probe pass.
+type Values<'a> = dyn FnMut(&[Brdf]) -> Result<Vec<Vec<[f64; 3]>>> + 'a;
 
 /// The models a material can be fitted with, by their scene-file names.
 pub const FIT_MODELS: [&str; 5] = ["lambert", "oren-nayar", "phong", "blinn-phong", "cook-torrance"];
