@@ -10,6 +10,7 @@
 
 layout(location = 0) in vec4 in_world_position;
 layout(location = 1) in vec3 in_world_normal;
+layout(location = 2) in vec3 in_world_tangent;
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -21,5 +22,5 @@ void main() {
         out_radiance = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
-    out_radiance = vec4(pixel_value(object, p, normalize(in_world_normal)), 1.0);
+    out_radiance = vec4(pixel_value(object, p, normalize(in_world_normal), in_world_tangent), 1.0);
 }

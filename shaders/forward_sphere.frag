@@ -73,5 +73,5 @@ void main() {
     gl_SampleMask[0] = covered;
     vec4 clip = frame.view_projection * vec4(p, 1.0);
     gl_FragDepth = clip.z / clip.w;
-    out_radiance = vec4(pixel_value(object, p, (p - center) / radius), 1.0);
+    out_radiance = vec4(pixel_value(object, p, (p - center) / radius, vec3(0.0)), 1.0);
 }

@@ -6,6 +6,7 @@
 
 layout(location = 0) in vec4 in_position;  // homogeneous: w = 0 for the plane's vertices at infinity
 layout(location = 1) in vec3 in_normal;    // unused: the shadow pass needs positions only
+layout(location = 2) in vec3 in_tangent;   // unused
 
 layout(location = 0) out vec4 out_world_position;
 

@@ -51,6 +51,15 @@ vec3 default_tangent(vec3 n) {
     return dot(t, t) > 1e-12 ? normalize(t) : vec3(1.0, 0.0, 0.0);
 }
 
+// The tangent at a point of unit normal n whose vertices give one (a mesh's, from its texture coordinates by
+// MikkTSpace): the interpolated vertex tangent made perpendicular to n (which the viewer may have flipped or
+// bent); default_tangent(n) where there is none (zero) or it is along n. Mirrors surface_tangent in
+// src/brdf/analytic/mod.rs.
+vec3 surface_tangent(vec3 n, vec3 vertex_tangent) {
+    vec3 t = vertex_tangent - n * dot(n, vertex_tangent);
+    return dot(t, t) > 1e-8 * dot(vertex_tangent, vertex_tangent) ? normalize(t) : default_tangent(n);
+}
+
 // A plane's tangent: the world's +x projected on it; the world's +z for a plane facing +-x. Mirrors
 // plane_tangent in src/brdf/analytic/mod.rs.
 vec3 plane_tangent(vec3 n) {

@@ -10,7 +10,8 @@ struct ObjectData {
     mat4 normal_matrix;  // inverse transpose of model (upper 3x3 used)
     Material material;
     uvec4 flags;         // x: two-sided (a plane has no inside: shade the side the camera sees)
-                         // y: the tangent's rule, TANGENT_DEFAULT or TANGENT_PLANE (common/brdf.glsl)
+                         // y: the tangent's rule (common/brdf.glsl): TANGENT_DEFAULT, the vertices'
+                         // tangents where they have them, else default_tangent; TANGENT_PLANE, plane_tangent
 };
 
 const uint TANGENT_DEFAULT = 0u;

@@ -94,9 +94,9 @@ float light_visibility(PointLight light, vec3 p, float NoL, float distance) {
     return lit / 9.0;
 }
 
-// What the image shows at the object's point p, of normal n: the radiance that leaves it towards the camera,
-// or the term VIEW (views.glsl).
-vec3 pixel_value(ObjectData object, vec3 p, vec3 n) {
+// What the image shows at the object's point p, of normal n and interpolated vertex tangent (zero where the
+// surface has none): the radiance that leaves it towards the camera, or the term VIEW (views.glsl).
+vec3 pixel_value(ObjectData object, vec3 p, vec3 n, vec3 vertex_tangent) {
     vec3 wo = normalize(frame.camera_position.xyz - p);
     if (object.flags.x != 0u && dot(n, wo) < 0.0) {
         n = -n;
@@ -109,7 +109,7 @@ vec3 pixel_value(ObjectData object, vec3 p, vec3 n) {
         return n;
     }
     // The tangent frame, which only an analytic model reads (and the compiler drops for the others).
-    vec3 t = object.flags.y == TANGENT_PLANE ? plane_tangent(n) : default_tangent(n);
+    vec3 t = object.flags.y == TANGENT_PLANE ? plane_tangent(n) : surface_tangent(n, vertex_tangent);
     vec3 radiance = vec3(0.0);
     for (uint i = 0u; i < LIGHT_COUNT; ++i) {
         vec3 to_light = lights[i].position.xyz - p;

@@ -16,7 +16,9 @@ mod tests;
 
 use glam::Vec3;
 
-pub use analytic::{default_tangent, plane_tangent, Analytic, AnalyticModel, ParameterKind, ParameterValue};
+pub use analytic::{
+    default_tangent, plane_tangent, surface_tangent, Analytic, AnalyticModel, ParameterKind, ParameterValue,
+};
 pub use blinn_phong::{blinn_phong, blinn_phong_specular, half_vector};
 pub use cook_torrance::{
     cook_torrance, cook_torrance_specular, d_ggx, f_schlick, g_smith_schlick, smith_schlick_k, v_smith_schlick,

@@ -1,4 +1,7 @@
-//! Triangle meshes: the tessellated sphere, the infinite plane and OBJ files (through tobj).
+//! Triangle meshes: the tessellated sphere, the infinite plane and OBJ files (through tobj), their tangents
+//! from texture coordinates ([`tangents`]).
+
+mod tangents;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -12,12 +15,21 @@ use crate::scene::{Scene, Shape, BUNNY_PATH};
 /// One vertex as the vertex shader reads it.
 ///
 /// The position is homogeneous so that the infinite plane can put vertices at infinity (w = 0); every
-/// other mesh has w = 1.
+/// other mesh has w = 1. The tangent is zero where the mesh gives none (no texture coordinates): the
+/// shaders then take the default rule (`default_tangent`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vertex {
     pub position: [f32; 4],
     pub normal: [f32; 3],
+    pub tangent: [f32; 3],
+}
+
+impl Vertex {
+    /// A vertex without a tangent.
+    pub fn new(position: [f32; 4], normal: [f32; 3]) -> Self {
+        Vertex { position, normal, tangent: [0.0; 3] }
+    }
 }
 
 /// An indexed triangle list.
@@ -145,7 +157,7 @@ pub fn bounding_uv_sphere(segments: u32, rings: u32) -> Mesh {
 pub fn uv_sphere(segments: u32, rings: u32) -> Mesh {
     let at = |theta: f32, phi: f32| {
         let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
-        Vertex { position: n.extend(1.0).into(), normal: n.into() }
+        Vertex::new(n.extend(1.0).into(), n.into())
     };
     // The north pole, the rings between the poles, the south pole.
     let mut vertices = Vec::with_capacity((segments * (rings - 1) + 2) as usize);
@@ -195,10 +207,10 @@ pub fn infinite_plane(point: Vec3, normal: Vec3) -> Mesh {
     let normal = normal.normalize();
     let (t1, t2) = normal.any_orthonormal_pair();
     let n: [f32; 3] = normal.into();
-    let at_infinity = |d: Vec3| Vertex { position: d.extend(0.0).into(), normal: n };
+    let at_infinity = |d: Vec3| Vertex::new(d.extend(0.0).into(), n);
     Mesh {
         vertices: vec![
-            Vertex { position: point.extend(1.0).into(), normal: n },
+            Vertex::new(point.extend(1.0).into(), n),
             at_infinity(t1),
             at_infinity(t2),
             at_infinity(-t1),
@@ -208,7 +220,8 @@ pub fn infinite_plane(point: Vec3, normal: Vec3) -> Mesh {
     }
 }
 
-/// Loads an OBJ file as one triangle mesh; smooth normals are computed when the file has none.
+/// Loads an OBJ file as one triangle mesh; smooth normals are computed when the file has none, tangents
+/// when it has texture coordinates ([`tangents::with_tangents`]).
 ///
 /// # Errors
 /// A message saying why the file could not be read or holds no usable triangles.
@@ -237,10 +250,14 @@ pub fn load_obj(path: &Path) -> Result<Mesh, String> {
             smooth_normals(&positions, &m.indices)
         };
         debug_assert_eq!(normals.len(), count);
-        mesh.vertices.extend(
-            positions.iter().zip(&normals).map(|(p, n)| Vertex { position: p.extend(1.0).into(), normal: (*n).into() }),
-        );
-        mesh.indices.extend(m.indices.iter().map(|i| first + i));
+        let vertices = positions.iter().zip(&normals).map(|(p, n)| Vertex::new(p.extend(1.0).into(), (*n).into()));
+        let mut part = Mesh { vertices: vertices.collect(), indices: m.indices };
+        if m.texcoords.len() == 2 * count {
+            let texcoords: Vec<[f32; 2]> = m.texcoords.chunks_exact(2).map(|uv| [uv[0], uv[1]]).collect();
+            part = tangents::with_tangents(part, &texcoords).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        mesh.vertices.extend(part.vertices);
+        mesh.indices.extend(part.indices.iter().map(|i| first + i));
     }
     if mesh.indices.is_empty() {
         return Err(format!("{} holds no triangles", path.display()));
@@ -340,7 +357,7 @@ pub fn place_objects(scene: &Scene) -> Result<Vec<PlacedMesh>> {
                         .positions
                         .iter()
                         .zip(&triangles.normals)
-                        .map(|(p, n)| Vertex { position: p.extend(1.0).into(), normal: (*n).into() })
+                        .map(|(p, n)| Vertex::new(p.extend(1.0).into(), (*n).into()))
                         .collect();
                     let mesh = Arc::new(Mesh { vertices, indices: triangles.indices.clone() });
                     PlacedMesh { mesh, model: Mat4::IDENTITY, exact_sphere: false, casts_shadow: true }
@@ -416,11 +433,30 @@ mod tests {
     }
 
     #[test]
+    fn the_torus_s_tangents_follow_its_ring_where_its_u_grows() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/analytic/torus.obj");
+        let mesh = load_obj(&path).unwrap();
+        // scripts/make-torus-obj.py: 97 x 25 vertices (the seams doubled), u around the ring about +y.
+        assert_eq!(mesh.vertices.len(), 97 * 25, "no vertex needed splitting");
+        for vertex in &mesh.vertices {
+            let p = Vec3::from_slice(&vertex.position[..3]);
+            let (t, n) = (Vec3::from(vertex.tangent), Vec3::from(vertex.normal));
+            // The ring's direction, d/du of (R cos 2 pi u, y, R sin 2 pi u); at a seam vertex, which has
+            // triangles on one side only, MikkTSpace's is the chord's, half a step (1.9 degrees) off.
+            let ring = Vec3::new(-p.z, 0.0, p.x).normalize();
+            assert!(t.dot(ring) > (1.9f32).to_radians().cos() - 1e-5, "at {p}: {t} is not along the ring {ring}");
+            assert!(t.dot(n).abs() < 1e-5 && (t.length() - 1.0).abs() < 1e-5, "at {p}: {t} is not a unit tangent");
+        }
+    }
+
+    #[test]
     fn an_obj_naming_a_material_library_loads_without_it() {
         let path = std::env::temp_dir().join(format!("vk-render-mtl-{}.obj", std::process::id()));
         std::fs::write(&path, "mtllib nowhere.mtl\nusemtl gold\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
         let mesh = load_obj(&path);
         std::fs::remove_file(&path).unwrap();
-        assert_eq!(mesh.unwrap().triangle_count(), 1);
+        let mesh = mesh.unwrap();
+        assert_eq!(mesh.triangle_count(), 1);
+        assert!(mesh.vertices.iter().all(|v| v.tangent == [0.0; 3]), "tangents without texture coordinates");
     }
 }

@@ -141,29 +141,35 @@ enum Geometry {
         point: Vec3,
         normal: Vec3,
     },
-    /// A triangle mesh in world space, with its vertex normals for smooth shading.
+    /// A triangle mesh in world space, with its vertex normals for smooth shading and its vertex tangents
+    /// (zero where the mesh has none).
     Mesh {
         triangles: Box<TriMesh>,
         normals: Vec<Vec3>,
+        tangents: Vec<Vec3>,
     },
 }
 
 impl Geometry {
-    /// The tangent the renderer gives the surface at shading normal n (which only an analytic model reads): a
-    /// plane's is the world's +x projected on it, a sphere's and a mesh's +y x n (see `brdf::default_tangent`).
-    fn tangent(&self, n: Vec3) -> Vec3 {
+    /// The tangent the renderer gives the surface at shading normal n, where the interpolated vertex tangent
+    /// is `vertex_tangent` (which only an analytic model reads): a plane's is the world's +x projected on it,
+    /// a mesh's its vertices' made perpendicular to n, else, as a sphere's, +y x n (see
+    /// `brdf::surface_tangent`).
+    fn tangent(&self, n: Vec3, vertex_tangent: Vec3) -> Vec3 {
         match self {
             Geometry::Plane { .. } => crate::brdf::plane_tangent(n),
-            Geometry::Sphere { .. } | Geometry::Mesh { .. } => crate::brdf::default_tangent(n),
+            Geometry::Sphere { .. } | Geometry::Mesh { .. } => crate::brdf::surface_tangent(n, vertex_tangent),
         }
     }
 }
 
-/// A ray's nearest hit: the object, the distance, and the shading normal (before facing the viewer).
+/// A ray's nearest hit: the object, the distance, the shading normal (before facing the viewer) and the
+/// interpolated vertex tangent (zero where the surface has none).
 struct Hit {
     object: usize,
     t: f32,
     normal: Vec3,
+    tangent: Vec3,
 }
 
 /// What the reference sees at a pixel's centre, without the material: the object, its shading normal (a
@@ -329,6 +335,9 @@ fn build_geometry(scene: &Scene) -> Result<Vec<Geometry>> {
                         .map(|v| placed.model.transform_point3(Vec3::from_slice(&v.position[..3])));
                     let normals =
                         placed.mesh.vertices.iter().map(|v| (normal_matrix * Vec3::from(v.normal)).normalize());
+                    // As forward.vert: a tangent turns and stretches with the surface, by the model matrix.
+                    let tangents =
+                        placed.mesh.vertices.iter().map(|v| placed.model.transform_vector3(v.tangent.into()));
                     let indices = placed.mesh.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
                     let triangles = TriMesh::new(positions.collect(), indices).map_err(|e| Error::Mesh {
                         scene: scene.source.clone(),
@@ -339,7 +348,11 @@ fn build_geometry(scene: &Scene) -> Result<Vec<Geometry>> {
                         },
                         message: format!("the reference cannot trace it: {e}"),
                     })?;
-                    Geometry::Mesh { triangles: Box::new(triangles), normals: normals.collect() }
+                    Geometry::Mesh {
+                        triangles: Box::new(triangles),
+                        normals: normals.collect(),
+                        tangents: tangents.collect(),
+                    }
                 }
             })
         })
@@ -351,12 +364,14 @@ fn nearest_hit(geometry: &[Geometry], origin: Vec3, direction: Vec3, max_t: f32)
     geometry
         .iter()
         .enumerate()
-        .filter_map(|(object, g)| intersect(g, origin, direction, max_t).map(|(t, normal)| Hit { object, t, normal }))
+        .filter_map(|(object, g)| {
+            intersect(g, origin, direction, max_t).map(|(t, normal, tangent)| Hit { object, t, normal, tangent })
+        })
         .min_by(|a, b| a.t.total_cmp(&b.t))
 }
 
-/// The first intersection in (1e-4, max_t) and the shading normal there.
-fn intersect(geometry: &Geometry, origin: Vec3, direction: Vec3, max_t: f32) -> Option<(f32, Vec3)> {
+/// The first intersection in (1e-4, max_t), the shading normal and the interpolated vertex tangent there.
+fn intersect(geometry: &Geometry, origin: Vec3, direction: Vec3, max_t: f32) -> Option<(f32, Vec3, Vec3)> {
     const MIN_T: f32 = 1e-4;
     match *geometry {
         Geometry::Sphere { center, radius } => {
@@ -369,7 +384,7 @@ fn intersect(geometry: &Geometry, origin: Vec3, direction: Vec3, max_t: f32) -> 
             }
             let root = discriminant.sqrt();
             let t = [-b - root, -b + root].into_iter().find(|&t| t > MIN_T && t < max_t)?;
-            Some((t, (origin + t * direction - center) / radius))
+            Some((t, (origin + t * direction - center) / radius, Vec3::ZERO))
         }
         Geometry::Plane { point, normal } => {
             let denominator = normal.dot(direction);
@@ -377,9 +392,9 @@ fn intersect(geometry: &Geometry, origin: Vec3, direction: Vec3, max_t: f32) -> 
                 return None;
             }
             let t = (point - origin).dot(normal) / denominator;
-            (t > MIN_T && t < max_t).then_some((t, normal))
+            (t > MIN_T && t < max_t).then_some((t, normal, Vec3::ZERO))
         }
-        Geometry::Mesh { ref triangles, ref normals } => {
+        Geometry::Mesh { ref triangles, ref normals, ref tangents } => {
             let cast = |from: Vec3| {
                 let hit = triangles.cast_local_ray_and_get_normal(&Ray::new(from, direction), max_t, false)?;
                 let t = hit.time_of_impact;
@@ -389,8 +404,8 @@ fn intersect(geometry: &Geometry, origin: Vec3, direction: Vec3, max_t: f32) -> 
                 let [a, b, c] = triangles.indices()[hit.subshape as usize].map(|i| i as usize);
                 let vertices = triangles.vertices();
                 let weights = barycentric(from + t * direction, vertices[a], vertices[b], vertices[c]);
-                let normal = weights.x * normals[a] + weights.y * normals[b] + weights.z * normals[c];
-                Some((t, normal.normalize_or(hit.normal)))
+                let interpolate = |at: &[Vec3]| weights.x * at[a] + weights.y * at[b] + weights.z * at[c];
+                Some((t, interpolate(normals).normalize_or(hit.normal), interpolate(tangents)))
             };
             let hit = cast(origin)?;
             if hit.1.dot(direction) <= 0.0 {
@@ -439,7 +454,7 @@ fn shade(
 ) -> (Vec3, Vec3) {
     let reflectance = &reflectances[hit.object];
     let point = surface_point(scene, geometry, hit, p, wo);
-    let t = geometry[hit.object].tangent(point.n);
+    let t = geometry[hit.object].tangent(point.n, hit.tangent);
     let from_environment = environment.map(|light| light.reflected(reflectance, (point.n, t), wo, seed));
     let from_lights = point.reflected(|n, wi, wo| reflectance.eval(n, t, wi, wo));
     match from_environment {

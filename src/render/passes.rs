@@ -14,8 +14,8 @@ use crate::vulkan::{
     layout_transition, Access, Buffer, Device, GraphicsPipelineDesc, Image, Pipeline, PipelineLayout, ShaderCompiler,
 };
 
-/// The vertex buffer layout: a homogeneous position and a normal.
-pub fn vertex_input() -> ([vk::VertexInputBindingDescription; 1], [vk::VertexInputAttributeDescription; 2]) {
+/// The vertex buffer layout: a homogeneous position, a normal and a tangent.
+pub fn vertex_input() -> ([vk::VertexInputBindingDescription; 1], [vk::VertexInputAttributeDescription; 3]) {
     let bindings = [vk::VertexInputBindingDescription {
         binding: 0,
         stride: std::mem::size_of::<Vertex>() as u32,
@@ -33,6 +33,12 @@ pub fn vertex_input() -> ([vk::VertexInputBindingDescription; 1], [vk::VertexInp
             binding: 0,
             format: vk::Format::R32G32B32_SFLOAT,
             offset: std::mem::offset_of!(Vertex, normal) as u32,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 2,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: std::mem::offset_of!(Vertex, tangent) as u32,
         },
     ];
     (bindings, attributes)

@@ -364,6 +364,18 @@ pub fn default_tangent(n: Vec3) -> Vec3 {
     }
 }
 
+/// The tangent at a point of unit normal n whose vertices give one (a mesh's, from its texture coordinates by
+/// MikkTSpace): the interpolated `vertex_tangent` made perpendicular to n; [`default_tangent`] where there is
+/// none (zero) or it is along n. Mirrors `surface_tangent` in `shaders/common/brdf.glsl`.
+pub fn surface_tangent(n: Vec3, vertex_tangent: Vec3) -> Vec3 {
+    let t = vertex_tangent - n * n.dot(vertex_tangent);
+    if t.length_squared() > 1e-8 * vertex_tangent.length_squared() {
+        t.normalize()
+    } else {
+        default_tangent(n)
+    }
+}
+
 /// A plane's tangent: the world's +x projected on the plane; for a plane whose normal is +-x, the world's +z
 /// projected (so that the frame turns with the plane). Mirrors `plane_tangent` in
 /// `shaders/common/brdf.glsl`.
@@ -483,5 +495,16 @@ mod tests {
         let tilted = Vec3::new(1.0, 1.0, 0.0).normalize();
         let t = plane_tangent(tilted);
         assert!(t.dot(tilted).abs() < 1e-6 && t.x > 0.0);
+    }
+
+    #[test]
+    fn a_vertex_tangent_is_made_perpendicular_to_the_normal_or_replaced_where_there_is_none() {
+        // A tangent interpolated off the surface: (1, 0, 1) on n = +z keeps its part along +x, at any length.
+        assert!(surface_tangent(Vec3::Z, Vec3::new(1.0, 0.0, 1.0)).abs_diff_eq(Vec3::X, 1e-6));
+        assert!(surface_tangent(Vec3::Z, Vec3::new(0.0, -0.01, 0.02)).abs_diff_eq(-Vec3::Y, 1e-6));
+        // None (a sphere, a mesh without texture coordinates) or one along n: the default rule.
+        let n = Vec3::new(1.0, 0.0, 0.0);
+        assert_eq!(surface_tangent(n, Vec3::ZERO), default_tangent(n));
+        assert_eq!(surface_tangent(n, 3.0 * n), default_tangent(n));
     }
 }
