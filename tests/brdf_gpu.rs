@@ -145,3 +145,51 @@ fn a_wrong_schlick_exponent_fails_the_probe_comparison() {
     let (error, _) = worst_error(&cases, &gpu, "broken cook-torrance");
     assert!(error > 100.0, "the broken Fresnel went unnoticed (worst error {error}x the tolerance)");
 }
+
+/// The grid probe (every material at every direction pair, as the fits ask for lobes) gives exactly what the
+/// list of its cases does: materials of several pipelines (the built-ins and an analytic file), three Lambert
+/// ones among them (one pipeline: 1.2 million evaluations, over two dispatches of at most 2^20 each, the
+/// boundary inside the third one's lobe), given apart in the list.
+#[test]
+fn a_grid_of_materials_and_directions_gives_what_the_list_of_its_cases_does() {
+    let ward = vk_render::brdf::Analytic::defaults(common::shipped("ward.brdf"));
+    let lambert = |kd: f32| Brdf::Lambert { kd: Vec3::new(kd, 0.4, 0.3) };
+    let models = [
+        lambert(0.5),
+        lambert(0.6),
+        Brdf::BlinnPhong { kd: Vec3::splat(0.2), ks: Vec3::splat(0.5), shininess: 30.0 },
+        lambert(0.7),
+        Brdf::Analytic(ward),
+    ];
+    let count = 400_000;
+    let pairs: Vec<(Vec3, Vec3)> = (0..count)
+        .map(|k| {
+            let t = k as f32 / count as f32;
+            (
+                direction(&Mat3::IDENTITY, 89.0 * t, 360.0 * t * 7.0),
+                direction(&Mat3::IDENTITY, 80.0 * (1.0 - t), 13.0 * k as f32),
+            )
+        })
+        .collect();
+    let mut renderer = common::renderer();
+    let grid = renderer.probe_brdf_grid(&models, &pairs).expect("probe with no validation message");
+    assert_eq!(grid.len(), models.len() * count);
+    // Every 997th element, and those around the Lambert pipeline's dispatch boundary (its 2^20th case: the
+    // third Lambert material, models[3], at pair 2^20 - 2 count) and the materials' boundaries.
+    let boundary = 3 * count + ((1usize << 20) - 2 * count);
+    let chosen: Vec<usize> = (0..grid.len())
+        .filter(|&i| i % 997 == 0 || i.abs_diff(boundary) < 3 || (i % count < 2 || i % count > count - 3))
+        .collect();
+    let cases: Vec<ProbeCase> = chosen
+        .iter()
+        .map(|&i| {
+            let (wi, wo) = pairs[i % count];
+            ProbeCase { brdf: models[i / count].clone(), n: Vec3::Z, wi, wo }
+        })
+        .collect();
+    let listed = renderer.probe_brdfs(&cases).expect("probe with no validation message");
+    for (&i, value) in chosen.iter().zip(&listed) {
+        assert_eq!(grid[i], *value, "element {i}: material {}, pair {}", i / count, i % count);
+    }
+    assert!(listed.iter().filter(|v| v.max_element() > 0.0).count() > chosen.len() / 4, "mostly zeros");
+}

@@ -18,7 +18,7 @@ use glam::Vec3;
 use crate::brdf::measured::entry_directions;
 use crate::brdf::{Brdf, DiffuseModel, MeasuredTable};
 use crate::error::{Error, Result};
-use crate::render::{ProbeCase, Renderer};
+use crate::render::Renderer;
 use crate::scene::Scene;
 
 /// `brdf` as a MERL table (to be written to `path`), as if measured: the probe pass (`brdf_eval`, the GLSL the
@@ -27,9 +27,8 @@ use crate::scene::Scene;
 /// # Errors
 /// What the probe pass returns.
 pub fn tabulated(renderer: &mut Renderer, brdf: &Brdf, path: PathBuf) -> Result<MeasuredTable> {
-    let cases: Vec<ProbeCase> =
-        entry_directions().into_iter().map(|(wi, wo)| ProbeCase { brdf: brdf.clone(), n: Vec3::Z, wi, wo }).collect();
-    Ok(MeasuredTable::from_entries(path, &renderer.probe_brdfs(&cases)?))
+    let values = renderer.probe_brdf_grid(std::slice::from_ref(brdf), &entry_directions())?;
+    Ok(MeasuredTable::from_entries(path, &values))
 }
 
 /// A material of a scene, by its `[material.NAME]`.

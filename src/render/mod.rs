@@ -499,6 +499,16 @@ impl Renderer {
         self.with_probe(cases.iter().map(|c| &c.brdf), |probe, context| probe.run(cases, context))
     }
 
+    /// `brdf_eval` of every material of `brdfs` at every (wi, wo) of `pairs`, in the frame n = +z (the probe
+    /// pass, as float32): material m's at pair d is element m * pairs.len() + d. The same values as
+    /// [`Renderer::probe_brdfs`] of every combination, each material and direction uploaded once.
+    ///
+    /// # Errors
+    /// As [`Renderer::probe_brdfs`].
+    pub fn probe_brdf_grid(&mut self, brdfs: &[Brdf], pairs: &[(Vec3, Vec3)]) -> Result<Vec<Vec3>> {
+        self.with_probe(brdfs.iter(), |probe, context| probe.run_grid(brdfs, pairs, context))
+    }
+
     /// Integrates f_r cos(theta_i) of `brdf_eval` over every cell of the hemisphere on the GPU (the albedo
     /// probe), as float32.
     ///

@@ -23,14 +23,19 @@ pub struct ProbeCase {
     pub wo: Vec3,
 }
 
-/// `ProbeCase` of `shaders/brdf_probe.comp` (std430).
+/// `Directions` of `shaders/brdf_probe.comp` (std430): a case's normal and directions.
 #[repr(C)]
 #[derive(Clone, Copy)]
-struct GpuProbeCase {
-    material: GpuMaterial,
+struct GpuDirections {
     n: [f32; 4],
     wi: [f32; 4],
     wo: [f32; 4],
+}
+
+impl GpuDirections {
+    fn new(n: Vec3, wi: Vec3, wo: Vec3) -> Self {
+        Self { n: n.extend(0.0).into(), wi: wi.extend(0.0).into(), wo: wo.extend(0.0).into() }
+    }
 }
 
 /// One job of the albedo probe: a material seen from `wo`, in the frame n = +z, wo in the xz-plane.
@@ -117,12 +122,12 @@ struct Shader {
 }
 
 impl Shader {
-    /// Compiles `file`, whose layout has `bindings` storage buffers and the element count as push constant.
+    /// Compiles `file`, whose layout has `bindings` storage buffers and `push_constants` u32 of push constants.
     fn new(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
         (file, evaluations): (&'static str, usize),
-        bindings: u32,
+        (bindings, push_constants): (u32, u32),
     ) -> Result<Self> {
         let spirv = compiler.compile(file)?;
         let module = device.create_shader_module(&spirv, file)?;
@@ -135,9 +140,11 @@ impl Shader {
                     .stage_flags(vk::ShaderStageFlags::COMPUTE)
             })
             .collect();
-        let push = [vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 4 }];
+        let push =
+            [vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 4 * push_constants }];
         let layout = device.create_pipeline_layout(&[&bindings], &push, &format!("{file} layout"))?;
-        Ok(Self { file, evaluations, module, analytic_modules: HashMap::new(), layout, pipelines: HashMap::new() })
+        let analytic_modules = HashMap::new();
+        Ok(Self { file, evaluations, module, analytic_modules, layout, pipelines: HashMap::new() })
     }
 
     /// The pipeline for `variant`, built on first use (an analytic model's shader compiled by `compiler`).
@@ -179,8 +186,8 @@ impl ProbePass {
     /// `Error::Shader` or `Error::Vulkan`.
     pub fn new(device: &Arc<Device>, compiler: &ShaderCompiler) -> Result<Self> {
         Ok(Self {
-            eval: Shader::new(device, compiler, ("brdf_probe.comp", 1), 5)?,
-            albedo: Shader::new(device, compiler, ("brdf_albedo.comp", 15 * 15), 6)?,
+            eval: Shader::new(device, compiler, ("brdf_probe.comp", 1), (6, 3))?,
+            albedo: Shader::new(device, compiler, ("brdf_albedo.comp", 15 * 15), (6, 1))?,
             device: device.clone(),
         })
     }
@@ -190,15 +197,86 @@ impl ProbePass {
     /// # Errors
     /// `Error::Shader` if an analytic model's shader does not compile, `Error::Vulkan` or `Error::Allocation`.
     pub fn run(&mut self, cases: &[ProbeCase], context: ProbeContext) -> Result<Vec<Vec3>> {
-        let data = context.data;
-        let element = |c: &ProbeCase| GpuProbeCase {
-            material: GpuMaterial::new(&c.brdf, data),
-            n: c.n.extend(0.0).into(),
-            wi: c.wi.extend(0.0).into(),
-            wo: c.wo.extend(0.0).into(),
-        };
-        let bytes = run_by_brdf(&self.device, &mut self.eval, cases, |c| variant(&c.brdf), element, &[], context, 16)?;
-        Ok(read_vec3s(&bytes, 16))
+        let mut results = vec![Vec3::ZERO; cases.len()];
+        for (variant, indices) in by_variant(cases.iter().map(|c| &c.brdf)) {
+            for chunk in indices.chunks(self.cases_per_buffer()) {
+                let materials: Vec<_> = chunk.iter().map(|&i| GpuMaterial::new(&cases[i].brdf, context.data)).collect();
+                let directions: Vec<_> =
+                    chunk.iter().map(|&i| GpuDirections::new(cases[i].n, cases[i].wi, cases[i].wo)).collect();
+                let directions = self.directions_buffer(&directions)?;
+                let values = self.evaluate(&variant, &materials, (&directions, None), context)?;
+                for (&i, value) in chunk.iter().zip(values) {
+                    results[i] = value;
+                }
+            }
+        }
+        Ok(results)
+    }
+
+    /// f_r of every material of `brdfs` at every (wi, wo) of `pairs`, in the frame n = +z: material m's at pair
+    /// d is element m * pairs.len() + d. As [`ProbePass::run`] of every combination, but the directions are
+    /// uploaded once and each material once, which a fit's lobes at one set of directions asks for.
+    ///
+    /// # Errors
+    /// As [`ProbePass::run`].
+    pub fn run_grid(&mut self, brdfs: &[Brdf], pairs: &[(Vec3, Vec3)], context: ProbeContext) -> Result<Vec<Vec3>> {
+        let mut results = vec![Vec3::ZERO; brdfs.len() * pairs.len()];
+        let groups = by_variant(brdfs.iter());
+        let mut done = 0;
+        for part in pairs.chunks(self.cases_per_buffer()) {
+            let directions: Vec<_> = part.iter().map(|&(wi, wo)| GpuDirections::new(Vec3::Z, wi, wo)).collect();
+            let directions = self.directions_buffer(&directions)?;
+            for (variant, indices) in &groups {
+                let materials: Vec<_> = indices.iter().map(|&m| GpuMaterial::new(&brdfs[m], context.data)).collect();
+                let values = self.evaluate(variant, &materials, (&directions, Some(part.len())), context)?;
+                for (&m, lobe) in indices.iter().zip(values.chunks_exact(part.len())) {
+                    let at = m * pairs.len() + done;
+                    results[at..at + part.len()].copy_from_slice(lobe);
+                }
+            }
+            done += part.len();
+        }
+        Ok(results)
+    }
+
+    /// How many cases' directions (or results) one storage buffer may hold (`maxStorageBufferRange`: 128 MiB
+    /// on lavapipe).
+    fn cases_per_buffer(&self) -> usize {
+        (self.device.limits.max_storage_buffer_range as usize / std::mem::size_of::<GpuDirections>()).max(1)
+    }
+
+    fn directions_buffer(&self, directions: &[GpuDirections]) -> Result<Buffer> {
+        self.device.create_buffer_with_data(directions, vk::BufferUsageFlags::STORAGE_BUFFER, "probe directions")
+    }
+
+    /// `brdf_probe.comp` with `variant`'s pipeline: each of `materials` at its own directions of the buffer (a
+    /// list: `grid` None), or at each of the buffer's `grid` directions, in dispatches of at most
+    /// [`EVALUATIONS_PER_DISPATCH`] cases.
+    fn evaluate(
+        &mut self,
+        variant: &Variant,
+        materials: &[GpuMaterial],
+        (directions, grid): (&Buffer, Option<usize>),
+        context: ProbeContext,
+    ) -> Result<Vec<Vec3>> {
+        let total = materials.len() * grid.unwrap_or(1);
+        if total == 0 {
+            return Ok(Vec::new());
+        }
+        let to_u32 = |n: usize| u32::try_from(n).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY));
+        let grid = to_u32(grid.unwrap_or(0))?;
+        let materials =
+            self.device.create_buffer_with_data(materials, vk::BufferUsageFlags::STORAGE_BUFFER, "probe materials")?;
+        let per_dispatch = EVALUATIONS_PER_DISPATCH.min(self.cases_per_buffer());
+        let pipeline = self.eval.pipeline(&self.device, context.compiler, variant)?;
+        let mut values = Vec::with_capacity(total);
+        for first in (0..total).step_by(per_dispatch) {
+            let count = per_dispatch.min(total - first);
+            let push = [to_u32(count)?, to_u32(first)?, grid];
+            let bytes = dispatch(&self.device, pipeline, &[&materials, directions], context.data, (count, 16), &push)?;
+            values.extend(read_vec3s(&bytes, 16));
+        }
+        Ok(values)
     }
 
     /// Integrates f_r cos(theta_i) over every cell on the GPU, the jobs' materials' data in `context`.
@@ -220,7 +298,7 @@ impl ProbePass {
             .collect();
         let jobs_buffer =
             self.device.create_buffer_with_data(&gpu_jobs, vk::BufferUsageFlags::STORAGE_BUFFER, "albedo jobs")?;
-        let brdf_of = |cell: &AlbedoCell| variant(&jobs[cell.job as usize].brdf);
+        let brdf_of = |cell: &AlbedoCell| &jobs[cell.job as usize].brdf;
         let element = |cell: &AlbedoCell| GpuAlbedoCell {
             bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1],
             job: cell.job,
@@ -237,20 +315,17 @@ impl ProbePass {
 /// [`EVALUATIONS_PER_DISPATCH`] BRDF evaluations, each chunk's elements (`element`) bound after `inputs`.
 /// Returns every item's `result_size` bytes of results, in the items' order.
 #[allow(clippy::too_many_arguments)] // one dispatch's whole description, for either probe
-fn run_by_brdf<T, G: Copy>(
+fn run_by_brdf<'a, T, G: Copy>(
     device: &Arc<Device>,
     shader: &mut Shader,
     items: &[T],
-    brdf_of: impl Fn(&T) -> Variant,
+    brdf_of: impl Fn(&T) -> &'a Brdf,
     element: impl Fn(&T) -> G,
     inputs: &[&Buffer],
     context: ProbeContext,
     result_size: usize,
 ) -> Result<Vec<u8>> {
-    let mut groups: BTreeMap<Variant, Vec<usize>> = BTreeMap::new();
-    for (index, item) in items.iter().enumerate() {
-        groups.entry(brdf_of(item)).or_default().push(index);
-    }
+    let groups = by_variant(items.iter().map(brdf_of));
     let per_dispatch = (device.limits.max_storage_buffer_range as usize / std::mem::size_of::<G>())
         .min(EVALUATIONS_PER_DISPATCH / shader.evaluations)
         .max(1);
@@ -261,7 +336,9 @@ fn run_by_brdf<T, G: Copy>(
             let input = device.create_buffer_with_data(&elements, vk::BufferUsageFlags::STORAGE_BUFFER, shader.file)?;
             let buffers: Vec<&Buffer> = inputs.iter().copied().chain([&input]).collect();
             let pipeline = shader.pipeline(device, context.compiler, &brdf)?;
-            let bytes = dispatch(device, pipeline, &buffers, context.data, chunk.len(), result_size)?;
+            let count =
+                u32::try_from(chunk.len()).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
+            let bytes = dispatch(device, pipeline, &buffers, context.data, (chunk.len(), result_size), &[count])?;
             for (&i, result) in chunk.iter().zip(bytes.chunks_exact(result_size)) {
                 results[i * result_size..(i + 1) * result_size].copy_from_slice(result);
             }
@@ -270,16 +347,16 @@ fn run_by_brdf<T, G: Copy>(
     Ok(results)
 }
 
-/// Runs `pipeline` once per element over `inputs` (its first bindings), a results buffer of `result_size`
-/// bytes per element (the next), the measured tables, and the analytic values and report (the last), and
-/// returns the results' bytes.
+/// Runs `pipeline` `count` times over `inputs` (its first bindings), a results buffer of `result_size` bytes
+/// per run (the next), the measured tables, and the analytic values and report (the last), its push constants
+/// `push` (the first, the count), and returns the results' bytes.
 fn dispatch(
     device: &Arc<Device>,
     pipeline: &Pipeline,
     inputs: &[&Buffer],
     data: MaterialData,
-    count: usize,
-    result_size: usize,
+    (count, result_size): (usize, usize),
+    push: &[u32],
 ) -> Result<Vec<u8>> {
     if count == 0 {
         return Ok(Vec::new());
@@ -305,14 +382,14 @@ fn dispatch(
     let descriptors: Vec<Descriptor> =
         buffers.iter().map(|buffer| Descriptor::Buffer(vk::DescriptorType::STORAGE_BUFFER, buffer)).collect();
     let set = pool.allocate_set(layout.set_layouts[0], &descriptors)?;
-    let count = u32::try_from(count).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
+    let push_bytes: Vec<u8> = push.iter().flat_map(|v| v.to_ne_bytes()).collect();
     device.submit_and_wait(|cmd| {
         // SAFETY: every handle recorded here lives until submit_and_wait has waited for the work.
         unsafe {
             device.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.raw);
             device.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout.raw, 0, &[set], &[]);
-            device.raw.cmd_push_constants(cmd, layout.raw, vk::ShaderStageFlags::COMPUTE, 0, &count.to_ne_bytes());
-            device.raw.cmd_dispatch(cmd, count.div_ceil(WORKGROUP_SIZE), 1, 1);
+            device.raw.cmd_push_constants(cmd, layout.raw, vk::ShaderStageFlags::COMPUTE, 0, &push_bytes);
+            device.raw.cmd_dispatch(cmd, push[0].div_ceil(WORKGROUP_SIZE), 1, 1);
         }
         output.record_host_read_barrier(
             cmd,
@@ -323,6 +400,15 @@ fn dispatch(
         Ok(())
     })?;
     Ok(output.bytes()?.to_vec())
+}
+
+/// The indices of `brdfs` by the variant that evaluates each.
+fn by_variant<'a>(brdfs: impl Iterator<Item = &'a Brdf>) -> BTreeMap<Variant, Vec<usize>> {
+    let mut groups: BTreeMap<Variant, Vec<usize>> = BTreeMap::new();
+    for (index, brdf) in brdfs.enumerate() {
+        groups.entry(variant(brdf)).or_default().push(index);
+    }
+    groups
 }
 
 /// The first three f32 of each `stride`-byte element.

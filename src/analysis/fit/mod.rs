@@ -19,7 +19,7 @@ use solver::{solve, Problem};
 use crate::brdf::measured::{directions_at, entry_angles, entry_index, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use crate::brdf::{Analytic, Brdf, DiffuseModel, Measured, ParameterKind, ParameterValue};
 use crate::error::{Error, Result};
-use crate::render::{ProbeCase, Renderer};
+use crate::render::Renderer;
 
 /// Each brdf's values at every sample (f_r times the sample's cosine), from the probe pass.
 type Values<'a> = dyn FnMut(&[Brdf]) -> Result<Vec<Vec<[f64; 3]>>> + 'a;
@@ -351,11 +351,8 @@ fn azimuth(index: usize) -> f32 {
 
 /// f_r times each sample's cosine, of each brdf at each sample, from the probe pass.
 fn lobe_values(renderer: &mut Renderer, brdfs: &[Brdf], samples: &[Sample]) -> Result<Vec<Vec<[f64; 3]>>> {
-    let cases: Vec<ProbeCase> = brdfs
-        .iter()
-        .flat_map(|brdf| samples.iter().map(move |s| ProbeCase { brdf: brdf.clone(), n: Vec3::Z, wi: s.wi, wo: s.wo }))
-        .collect();
-    let values = renderer.probe_brdfs(&cases)?;
+    let pairs: Vec<(Vec3, Vec3)> = samples.iter().map(|s| (s.wi, s.wo)).collect();
+    let values = renderer.probe_brdf_grid(brdfs, &pairs)?;
     Ok(values
         .chunks_exact(samples.len())
         .map(|lobe| lobe.iter().zip(samples).map(|(f, s)| (f.as_dvec3() * f64::from(s.cosine)).to_array()).collect())
