@@ -198,8 +198,10 @@ impl ProbePass {
     /// `Error::Shader` if an analytic model's shader does not compile, `Error::Vulkan` or `Error::Allocation`.
     pub fn run(&mut self, cases: &[ProbeCase], context: ProbeContext) -> Result<Vec<Vec3>> {
         let mut results = vec![Vec3::ZERO; cases.len()];
+        // A list holds a material and directions a case, each buffer within the device's range.
+        let per_buffer = per_buffer::<GpuMaterial>(&self.device).min(per_buffer::<GpuDirections>(&self.device));
         for (variant, indices) in by_variant(cases.iter().map(|c| &c.brdf)) {
-            for chunk in indices.chunks(self.cases_per_buffer()) {
+            for chunk in indices.chunks(per_buffer) {
                 let materials: Vec<_> = chunk.iter().map(|&i| GpuMaterial::new(&cases[i].brdf, context.data)).collect();
                 let directions: Vec<_> =
                     chunk.iter().map(|&i| GpuDirections::new(cases[i].n, cases[i].wi, cases[i].wo)).collect();
@@ -223,7 +225,7 @@ impl ProbePass {
         let mut results = vec![Vec3::ZERO; brdfs.len() * pairs.len()];
         let groups = by_variant(brdfs.iter());
         let mut done = 0;
-        for part in pairs.chunks(self.cases_per_buffer()) {
+        for part in pairs.chunks(per_buffer::<GpuDirections>(&self.device)) {
             let directions: Vec<_> = part.iter().map(|&(wi, wo)| GpuDirections::new(Vec3::Z, wi, wo)).collect();
             let directions = self.directions_buffer(&directions)?;
             for (variant, indices) in &groups {
@@ -237,12 +239,6 @@ impl ProbePass {
             done += part.len();
         }
         Ok(results)
-    }
-
-    /// How many cases' directions (or results) one storage buffer may hold (`maxStorageBufferRange`: 128 MiB
-    /// on lavapipe).
-    fn cases_per_buffer(&self) -> usize {
-        (self.device.limits.max_storage_buffer_range as usize / std::mem::size_of::<GpuDirections>()).max(1)
     }
 
     fn directions_buffer(&self, directions: &[GpuDirections]) -> Result<Buffer> {
@@ -263,17 +259,16 @@ impl ProbePass {
         if total == 0 {
             return Ok(Vec::new());
         }
-        let to_u32 = |n: usize| u32::try_from(n).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY));
-        let grid = to_u32(grid.unwrap_or(0))?;
+        let grid = push_constant(grid.unwrap_or(0))?;
         let materials =
             self.device.create_buffer_with_data(materials, vk::BufferUsageFlags::STORAGE_BUFFER, "probe materials")?;
-        let per_dispatch = EVALUATIONS_PER_DISPATCH.min(self.cases_per_buffer());
+        let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<[f32; 4]>(&self.device));
         let pipeline = self.eval.pipeline(&self.device, context.compiler, variant)?;
         let mut values = Vec::with_capacity(total);
         for first in (0..total).step_by(per_dispatch) {
             let count = per_dispatch.min(total - first);
-            let push = [to_u32(count)?, to_u32(first)?, grid];
-            let bytes = dispatch(&self.device, pipeline, &[&materials, directions], context.data, (count, 16), &push)?;
+            let push = [push_constant(count)?, push_constant(first)?, grid];
+            let bytes = dispatch(&self.device, pipeline, &[&materials, directions], context.data, 16, &push)?;
             values.extend(read_vec3s(&bytes, 16));
         }
         Ok(values)
@@ -326,9 +321,7 @@ fn run_by_brdf<'a, T, G: Copy>(
     result_size: usize,
 ) -> Result<Vec<u8>> {
     let groups = by_variant(items.iter().map(brdf_of));
-    let per_dispatch = (device.limits.max_storage_buffer_range as usize / std::mem::size_of::<G>())
-        .min(EVALUATIONS_PER_DISPATCH / shader.evaluations)
-        .max(1);
+    let per_dispatch = per_buffer::<G>(device).min(EVALUATIONS_PER_DISPATCH / shader.evaluations).max(1);
     let mut results = vec![0u8; items.len() * result_size];
     for (brdf, indices) in groups {
         for chunk in indices.chunks(per_dispatch) {
@@ -336,9 +329,8 @@ fn run_by_brdf<'a, T, G: Copy>(
             let input = device.create_buffer_with_data(&elements, vk::BufferUsageFlags::STORAGE_BUFFER, shader.file)?;
             let buffers: Vec<&Buffer> = inputs.iter().copied().chain([&input]).collect();
             let pipeline = shader.pipeline(device, context.compiler, &brdf)?;
-            let count =
-                u32::try_from(chunk.len()).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))?;
-            let bytes = dispatch(device, pipeline, &buffers, context.data, (chunk.len(), result_size), &[count])?;
+            let bytes =
+                dispatch(device, pipeline, &buffers, context.data, result_size, &[push_constant(chunk.len())?])?;
             for (&i, result) in chunk.iter().zip(bytes.chunks_exact(result_size)) {
                 results[i * result_size..(i + 1) * result_size].copy_from_slice(result);
             }
@@ -347,17 +339,18 @@ fn run_by_brdf<'a, T, G: Copy>(
     Ok(results)
 }
 
-/// Runs `pipeline` `count` times over `inputs` (its first bindings), a results buffer of `result_size` bytes
-/// per run (the next), the measured tables, and the analytic values and report (the last), its push constants
-/// `push` (the first, the count), and returns the results' bytes.
+/// Runs `pipeline` `push[0]` times (its push constants `push`, the first of which is the count) over `inputs`
+/// (its first bindings), a results buffer of `result_size` bytes per run (the next), the measured tables, and
+/// the analytic values and report (the last), and returns the results' bytes.
 fn dispatch(
     device: &Arc<Device>,
     pipeline: &Pipeline,
     inputs: &[&Buffer],
     data: MaterialData,
-    (count, result_size): (usize, usize),
+    result_size: usize,
     push: &[u32],
 ) -> Result<Vec<u8>> {
+    let count = push[0] as usize;
     if count == 0 {
         return Ok(Vec::new());
     }
@@ -400,6 +393,16 @@ fn dispatch(
         Ok(())
     })?;
     Ok(output.bytes()?.to_vec())
+}
+
+/// How many elements of `T` one storage buffer may hold (`maxStorageBufferRange`: 128 MiB on lavapipe).
+fn per_buffer<T>(device: &Device) -> usize {
+    (device.limits.max_storage_buffer_range as usize / std::mem::size_of::<T>()).max(1)
+}
+
+/// `n` as a push constant, which is 32 bits: a count past them is more than any buffer holds.
+fn push_constant(n: usize) -> Result<u32> {
+    u32::try_from(n).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))
 }
 
 /// The indices of `brdfs` by the variant that evaluates each.
