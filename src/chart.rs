@@ -67,32 +67,40 @@ impl ChartFile {
 /// # Errors
 /// `Error::Output` naming the path.
 pub fn write_chart(chart: &impl Chart, path: &Path) -> Result<()> {
-    register_font();
-    let failed = |e: String| Error::Output { path: path.to_path_buf(), message: format!("cannot draw the chart: {e}") };
-    let (width, height) = chart.size();
+    let failed = |message: String| Error::Output { path: path.to_path_buf(), message };
     match ChartFile::for_path(path) {
-        Some(ChartFile::Png) => {
-            let mut pixels = vec![255u8; width as usize * height as usize * 3];
-            {
-                let area = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
-                chart.draw(&area).map_err(|e| failed(e.to_string()))?;
-                area.present().map_err(|e| failed(e.to_string()))?;
-            }
-            let image = image::RgbImage::from_raw(width, height, pixels)
-                .ok_or_else(|| failed("the picture's buffer has the wrong size".into()))?;
-            write_png(&image, path)
-        }
-        Some(ChartFile::Svg) => {
-            let mut svg = String::new();
-            {
-                let area = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-                chart.draw(&area).map_err(|e| failed(e.to_string()))?;
-                area.present().map_err(|e| failed(e.to_string()))?;
-            }
-            write_file(path, svg.as_bytes())
-        }
+        Some(ChartFile::Png) => write_png(&chart_pixels(chart).map_err(failed)?, path),
+        Some(ChartFile::Svg) => write_file(path, chart_svg(chart).map_err(failed)?.as_bytes()),
         None => Err(failed("a chart is written as .png or .svg".into())),
     }
+}
+
+/// The chart drawn into an image of its size; the error says what failed.
+fn chart_pixels(chart: &impl Chart) -> std::result::Result<image::RgbImage, String> {
+    register_font();
+    let failed = |e: String| format!("cannot draw the chart: {e}");
+    let (width, height) = chart.size();
+    let mut pixels = vec![255u8; width as usize * height as usize * 3];
+    {
+        let area = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
+        chart.draw(&area).map_err(|e| failed(e.to_string()))?;
+        area.present().map_err(|e| failed(e.to_string()))?;
+    }
+    image::RgbImage::from_raw(width, height, pixels)
+        .ok_or_else(|| failed("the picture's buffer has the wrong size".into()))
+}
+
+/// The chart as an SVG document; the error says what failed.
+pub fn chart_svg(chart: &impl Chart) -> std::result::Result<String, String> {
+    register_font();
+    let failed = |e: String| format!("cannot draw the chart: {e}");
+    let mut svg = String::new();
+    {
+        let area = SVGBackend::with_string(&mut svg, chart.size()).into_drawing_area();
+        chart.draw(&area).map_err(|e| failed(e.to_string()))?;
+        area.present().map_err(|e| failed(e.to_string()))?;
+    }
+    Ok(svg)
 }
 
 fn register_font() {

@@ -23,6 +23,11 @@ impl FigureImage {
         Scene::parse(self.text, &Path::new("assets/scenes").join(self.file), overrides)
     }
 
+    /// The scene file's text.
+    pub fn text(&self) -> &'static str {
+        self.text
+    }
+
     /// The file name of the rendered image: the scene's name with .png.
     pub fn png_name(&self) -> String {
         format!("{}.png", self.file.trim_end_matches(".toml"))

@@ -14,6 +14,7 @@ pub mod environment;
 pub mod error;
 pub mod figures;
 pub mod files;
+pub mod frames;
 pub mod grid;
 pub mod interrupt;
 pub mod mesh;

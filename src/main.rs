@@ -8,6 +8,8 @@ use clap::{Parser, Subcommand};
 use vk_render::RendererOptions;
 
 mod commands;
+#[cfg(feature = "serve")]
+mod serve;
 
 /// Renders classic BRDFs (Lambert, Oren-Nayar, Phong, Blinn-Phong, Cook-Torrance) through Vulkan.
 #[derive(Parser)]
@@ -71,8 +73,23 @@ enum Command {
     /// Render two scenes and compare them: side by side with the map of their differences and its colour
     /// bar (PNG), mean / p99 / max differences printed.
     Compare(commands::compare::CompareArgs),
+    /// Serve the checker and a material explorer to browsers, with an HTTP API (see the README's section for
+    /// a course's staff): prints `listening on http://ADDR:PORT` once it accepts connections.
+    #[cfg(feature = "serve")]
+    Serve(serve::ServeArgs),
     /// List the Vulkan devices and which one is used by default.
     Devices,
+}
+
+impl Command {
+    /// Whether the command handles SIGINT and SIGTERM itself (the server answers the requests in flight).
+    fn stops_itself(&self) -> bool {
+        #[cfg(feature = "serve")]
+        if matches!(self, Command::Serve(_)) {
+            return true;
+        }
+        false
+    }
 }
 
 fn main() -> ExitCode {
@@ -81,7 +98,9 @@ fn main() -> ExitCode {
         Err(e) => return command_line_error(e),
     };
     stop_quietly_on_a_closed_pipe();
-    remove_partial_files_on_signals();
+    if !cli.command.stops_itself() {
+        remove_partial_files_on_signals();
+    }
     let level = match cli.verbose {
         0 => log::LevelFilter::Warn,
         1 => log::LevelFilter::Info,
@@ -197,6 +216,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Check(args) => return Ok(commands::check::run(args, options)),
         #[cfg(feature = "preview")]
         Command::Preview(args) => commands::preview::run(args, options),
+        #[cfg(feature = "serve")]
+        Command::Serve(args) => serve::run(args, options),
     };
     done.map(|()| ExitCode::SUCCESS)
 }

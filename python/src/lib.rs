@@ -18,7 +18,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use vk_render::analysis::albedo::{directional_albedos, ALBEDO_TOLERANCE};
 use vk_render::brdf::Brdf;
 use vk_render::check::report::{check_image, scene_named};
-use vk_render::check::Verdict;
+use vk_render::check::summary::{Statistics, Summary};
 use vk_render::render::ProbeCase;
 use vk_render::scene::{Shorthands, View};
 use vk_render::vulkan::{list_devices, preferred_device, Instance};
@@ -293,17 +293,12 @@ impl PyRenderer {
             Err(_) => resolve(py, scene, &all)?,
         };
         let checked = self.with(py, |r| check_image(r, &mine, &scene, |_, _| {}))?;
+        let summary = Summary::of(&checked, &scene);
         let report = PyDict::new(py);
-        report.set_item("matches", checked.matches())?;
-        let verdict = match checked.diagnosis.verdict {
-            Verdict::Matches => "matches",
-            Verdict::Mistake(_) => "mistake",
-            Verdict::Tie(_) => "tie",
-            Verdict::Unexplained => "unexplained",
-        };
-        report.set_item("verdict", verdict)?;
+        report.set_item("matches", summary.matches)?;
+        report.set_item("verdict", summary.verdict)?;
         let mistakes = PyList::empty(py);
-        for m in checked.mistakes() {
+        for m in &summary.mistakes {
             let entry = PyDict::new(py);
             entry.set_item("name", m.name)?;
             entry.set_item("explanation", m.explanation)?;
@@ -312,7 +307,7 @@ impl PyRenderer {
             mistakes.append(entry)?;
         }
         report.set_item("mistakes", mistakes)?;
-        let stats = |s: &vk_render::check::Stats| -> PyResult<Bound<'py, PyDict>> {
+        let stats = |s: &Statistics| -> PyResult<Bound<'py, PyDict>> {
             let entry = PyDict::new(py);
             entry.set_item("rms", s.rms)?;
             entry.set_item("mean", s.mean)?;
@@ -320,35 +315,31 @@ impl PyRenderer {
             entry.set_item("over", s.over)?;
             Ok(entry)
         };
-        report.set_item("statistics", stats(&checked.diagnosis.against_exact)?)?;
+        report.set_item("statistics", stats(&summary.statistics)?)?;
         let regions = PyList::empty(py);
-        for region in &checked.regions {
-            let entry = stats(&region.stats)?;
+        for region in &summary.regions {
+            let entry = stats(&region.statistics)?;
             entry.set_item("object", region.object)?;
             entry.set_item("part", region.part)?;
             regions.append(entry)?;
         }
         report.set_item("regions", regions)?;
-        let tells_apart = checked.tells_apart.map(|((name, sets), _)| {
-            let sets: Vec<String> = sets.iter().map(|s| format!("--set '{s}'")).collect();
-            format!("{name} {}", sets.join(" ")).trim_end().to_string()
-        });
-        report.set_item("tells_apart", tells_apart)?;
+        report.set_item("tells_apart", &summary.tells_apart)?;
         let wrong_parameters = PyList::empty(py);
-        for wrong in &checked.wrong_parameters {
+        for wrong in &summary.wrong_parameters {
             let entry = PyDict::new(py);
             entry.set_item("object", wrong.object)?;
-            entry.set_item("material", &scene.objects[wrong.object].material)?;
-            entry.set_item("model", scene.objects[wrong.object].brdf.name())?;
+            entry.set_item("material", &wrong.material)?;
+            entry.set_item("model", wrong.model)?;
             let (fitted, given) = (PyDict::new(py), PyDict::new(py));
-            for (name, values, scene_values) in &wrong.differing {
+            for ((name, values), (_, scene_values)) in wrong.fitted.iter().zip(&wrong.scene) {
                 fitted.set_item(name, values.clone())?;
                 given.set_item(name, scene_values.clone())?;
             }
             entry.set_item("fitted", fitted)?;
             entry.set_item("scene", given)?;
-            entry.set_item("residual_levels", wrong.fitted.residual_levels)?;
-            entry.set_item("scene_levels", wrong.fitted.scene_levels)?;
+            entry.set_item("residual_levels", wrong.residual_levels)?;
+            entry.set_item("scene_levels", wrong.scene_levels)?;
             wrong_parameters.append(entry)?;
         }
         report.set_item("wrong_parameters", wrong_parameters)?;

@@ -9,6 +9,7 @@ pub mod furnace;
 pub mod image_fit;
 pub mod lobe;
 pub mod lobe3d;
+pub mod plots;
 pub mod slice;
 
 use std::path::PathBuf;

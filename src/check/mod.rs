@@ -4,6 +4,7 @@
 
 pub mod catalogue;
 pub mod report;
+pub mod summary;
 
 use image::RgbImage;
 

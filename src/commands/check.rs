@@ -9,6 +9,7 @@ use clap::Args;
 use super::{progress, SetArgs};
 use vk_render::check::catalogue::CATALOGUE;
 use vk_render::check::report::{check_image, read_image, scene_named};
+use vk_render::check::summary::scene_words;
 use vk_render::check::{Verdict, EDGE_MARGIN, MATCH_P99, MATCH_RMS};
 use vk_render::figures::FIGURES;
 use vk_render::output::{write_png, OutputFormat};
@@ -214,12 +215,6 @@ fn verdict_line(verdict: &Verdict) -> String {
         Verdict::Tie(names) => format!("differs: one of {}", names.join(", ")),
         Verdict::Unexplained => "differs: no known mistake explains it".into(),
     }
-}
-
-/// A scene of the practical and its overrides as a command line's words: `NAME --set 'KEY=VALUE' ...`.
-fn scene_words((name, overrides): (&str, &[&str])) -> String {
-    let sets: Vec<String> = overrides.iter().map(|o| format!("--set '{o}'")).collect();
-    format!("{name} {}", sets.join(" ")).trim_end().to_string()
 }
 
 /// A number printed to three decimals without its trailing zeros.

@@ -8,11 +8,10 @@ use super::{progress, StudyArgs, StudyFile};
 use vk_render::analysis::albedo::{albedo_angles, directional_albedos, ALBEDO_TOLERANCE};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::lobe3d::{lobe_scene, Viewpoint};
+use vk_render::analysis::plots::{albedo_chart, albedo_table, lobe_chart, lobe_table, LobeStyle};
 use vk_render::analysis::slice::{slices, Slice};
-use vk_render::analysis::{angle_table, describe, rgb, Channel, NamedBrdf};
-use vk_render::chart::{
-    value_range, write_chart, ChartFile, HeatMap, HeatMapChart, LineChart, LobeChart, Series, PALETTE,
-};
+use vk_render::analysis::{describe, rgb, Channel, NamedBrdf};
+use vk_render::chart::{value_range, write_chart, ChartFile, HeatMap, HeatMapChart};
 use vk_render::output::write_png;
 use vk_render::report::side_by_side;
 use vk_render::{Renderer, RendererOptions};
@@ -156,48 +155,15 @@ fn lobe(args: LobeArgs, options: RendererOptions) -> anyhow::Result<()> {
     let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
     let brdfs: Vec<_> = materials.iter().map(|m| m.brdf.clone()).collect();
     let angles = lobe_angles();
-    let cut = |theta_i| LobeCut { theta_i, phi: args.phi, cosine: !args.no_cosine };
-    let quantity = if args.no_cosine { "f_r" } else { "f_r cos θo" };
-    let values = args
-        .theta_i
-        .iter()
-        .map(|&theta_i| lobes(&mut renderer, &brdfs, &cut(theta_i)))
-        .collect::<Result<Vec<_>, _>>()?;
-    let columns: Vec<_> = materials
-        .iter()
-        .zip(&values[0])
-        .map(|(m, lobe)| (m.name.clone(), lobe.iter().copied().map(rgb).collect()))
-        .collect();
-    let csv = angle_table("theta_o", &angles, &columns);
+    let cuts: Vec<LobeCut> =
+        args.theta_i.iter().map(|&theta_i| LobeCut { theta_i, phi: args.phi, cosine: !args.no_cosine }).collect();
+    let values = cuts.iter().map(|cut| lobes(&mut renderer, &brdfs, cut)).collect::<Result<Vec<_>, _>>()?;
+    let csv = lobe_table(&materials, &angles, &values[0]);
     if file == StudyFile::Csv {
         return args.study.write(&csv, |_| Ok(()));
     }
-    let channel = Channel::from(args.channel);
-    let mut series = Vec::new();
-    let mut incident = Vec::new();
-    for (k, (&theta_i, values)) in args.theta_i.iter().zip(values).enumerate() {
-        for (m, (material, lobe)) in materials.iter().zip(values).enumerate() {
-            let colour = PALETTE[(k * materials.len() + m) % PALETTE.len()];
-            if m == 0 {
-                incident.push((theta_i, colour));
-            }
-            let shown = |v: f64| if args.log { (1.0 + v).log10() } else { v };
-            series.push(Series {
-                label: format!("{}: {}, θi {theta_i}°", material.name, describe(&material.brdf)),
-                colour,
-                points: angles.iter().zip(lobe).map(|(&a, f)| (a, shown(channel.of(rgb(f))))).collect(),
-                dashed: false,
-            });
-        }
-    }
-    let plane = if args.phi == 0.0 { "plane of incidence".to_string() } else { format!("cut at φ = {}°", args.phi) };
-    let quantity = if args.log { format!("log10(1 + {quantity})") } else { quantity.to_string() };
-    let chart = LobeChart {
-        title: format!("Lobes: {quantity}, {plane}, {}", channel.name()),
-        quantity: format!("{quantity} ({})", channel.name()),
-        series,
-        incident,
-    };
+    let chart =
+        lobe_chart(&materials, &cuts, &angles, &values, LobeStyle { channel: args.channel.into(), log: args.log });
     args.study.write(&csv, |path| write_chart(&chart, path))
 }
 
@@ -214,7 +180,7 @@ fn albedo(args: AlbedoArgs, options: RendererOptions) -> anyhow::Result<()> {
         let albedos = directional_albedos(&mut renderer, &material.brdf, &radians, ALBEDO_TOLERANCE)?;
         bar.inc(1);
         bound = albedos.iter().fold(bound, |b, a| b.max(a.error_bound));
-        curves.push(albedos.iter().map(|a| a.rho).collect::<Vec<_>>());
+        curves.push(albedos);
     }
     bar.finish_and_clear();
     println!(
@@ -223,34 +189,11 @@ fn albedo(args: AlbedoArgs, options: RendererOptions) -> anyhow::Result<()> {
         materials.len(),
         angles.len()
     );
-    let columns: Vec<_> = materials.iter().map(|m| m.name.clone()).zip(curves.iter().cloned()).collect();
-    let csv = angle_table("theta_o", &angles, &columns);
+    let csv = albedo_table(&materials, &angles, &curves);
     if file == StudyFile::Csv {
         return args.study.write(&csv, |_| Ok(()));
     }
-    let channel = Channel::from(args.channel);
-    let series: Vec<Series> = materials
-        .iter()
-        .zip(&curves)
-        .enumerate()
-        .map(|(k, (material, curve))| Series {
-            label: format!("{}: {}", material.name, describe(&material.brdf)),
-            colour: PALETTE[k % PALETTE.len()],
-            points: angles.iter().zip(curve).map(|(&a, &rho)| (a, channel.of(rho))).collect(),
-            dashed: false,
-        })
-        .collect();
-    let y_range = value_range(series.iter().flat_map(|s| s.points.iter().map(|p| &p.1)).chain([&1.0]));
-    let chart = LineChart {
-        title: format!("Directional albedo ρ(θo) = ∫ f_r cos θi dωi ({}, error ≤ {bound:.0e})", channel.name()),
-        x_label: "θo (degrees)".into(),
-        y_label: format!("ρ ({})", channel.name()),
-        x_range: (0.0, 90.0),
-        y_range,
-        series,
-        horizontal_rules: vec![1.0],
-        size: (1100, 620),
-    };
+    let chart = albedo_chart(&materials, &angles, &curves, bound, args.channel.into());
     args.study.write(&csv, |path| write_chart(&chart, path))
 }
 

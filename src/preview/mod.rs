@@ -6,7 +6,6 @@
 //! writes, byte for byte.
 
 mod controls;
-mod refine;
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -23,8 +22,9 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::Key;
 use winit::window::{Window, WindowId};
 
+use crate::frames;
+pub use crate::frames::{draw_motion_frame, motion_scene, scale_up, MOTION_SAMPLES, MOTION_SCALE, SETTLE_FRAMES};
 pub use controls::{key_action, parse_script, Action, Controls, Orbit, ScriptStep, ORBIT_STEP_PIXELS};
-pub use refine::{draw_motion_frame, motion_scene, scale_up, MOTION_SAMPLES, MOTION_SCALE, SETTLE_FRAMES};
 
 use crate::analysis::lobe3d::lobe_on_object;
 use crate::error::{Error, Result};
@@ -259,9 +259,9 @@ struct Running {
     /// changes (the camera included: the lobe stands where the camera sees it best).
     lobe: Option<((Scene, usize), Vec<Object>)>,
     /// What the frames so far drew: motion or still, the environment's exact passes (refine.rs).
-    frames: refine::Frames,
+    frames: frames::Frames,
     /// What the last frame showed of the environment, for the title.
-    shown: refine::Shown,
+    shown: frames::Shown,
 }
 
 impl Running {
@@ -306,8 +306,8 @@ impl Running {
             watched,
             window,
             lobe: None,
-            frames: refine::Frames::default(),
-            shown: refine::Shown::Render,
+            frames: frames::Frames::default(),
+            shown: frames::Shown::Render,
         })
     }
 
@@ -397,12 +397,12 @@ impl Running {
         if !self.present(screenshot.as_deref())? {
             return Ok(()); // the swapchain went out of date: made anew on the next frame
         }
-        self.pace.presented_one(self.shown == refine::Shown::Moving);
+        self.pace.presented_one(self.shown == frames::Shown::Moving);
         let frame_ms = started.elapsed().as_secs_f64() * 1e3;
         self.window.set_title(&format!("{}{}", self.controls.title(&self.scene, frame_ms), self.shown.describe()));
         // A counted run ends on a still frame, its screenshot the exact image: past its count, the motion
         // frames go on (each saved over the last) until the scene has settled.
-        if timed_out || (counted && self.shown != refine::Shown::Moving) {
+        if timed_out || (counted && self.shown != frames::Shown::Moving) {
             event_loop.exit();
         }
         Ok(())
@@ -447,7 +447,7 @@ impl Running {
         let bgra = swapchain.format == vk::Format::B8G8R8A8_UNORM;
         let order = if bgra { TexelOrder::Bgra } else { TexelOrder::Rgba };
         let frame = shown.as_ref().unwrap_or(&self.scene);
-        match refine::render_frame(&mut self.renderer, &mut self.frames, frame, order, upload.bytes_mut()?) {
+        match frames::render_frame(&mut self.renderer, &mut self.frames, frame, order, upload.bytes_mut()?) {
             Ok(shown) => {
                 self.shown = shown;
                 self.last_good = self.scene.clone();

@@ -1,9 +1,10 @@
-//! What the preview draws each frame. While anything moves (the camera, a material, the window's size) a
-//! motion frame: the scene at a fraction of the window's size with one sample (and the environment's fast
-//! mode), scaled up, cheap enough to keep up. Once nothing has moved for [`SETTLE_FRAMES`] frames, the exact
-//! frame: the very image `vk-render render` makes. With an environment, the still image is first the fast
-//! mode, then one pass of the exact mode added per frame, shown once there are enough of them to judge, until
-//! the exact mode's own bound says it is done: the image `vk-render render` makes in the exact mode.
+//! The frames of a scene that changes, as the preview and the server's explore page draw them. While
+//! anything moves (the camera, a material, the window's size) a motion frame: the scene at a fraction of the
+//! window's size with one sample (and the environment's fast mode), scaled up, cheap enough to keep up. Once
+//! nothing has moved for [`SETTLE_FRAMES`] frames, the exact frame: the very image `vk-render render` makes.
+//! With an environment, the still image is first the fast mode, then one pass of the exact mode added per
+//! frame, shown once there are enough of them to judge, until the exact mode's own bound says it is done: the
+//! image `vk-render render` makes in the exact mode.
 
 use crate::error::Result;
 use crate::output::{encode_texels, TexelOrder};

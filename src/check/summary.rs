@@ -1,0 +1,145 @@
+//! A check as plain data: what the Python package's `vk_render.check` returns as a dict and the server's
+//! `POST /api/check` as JSON, made in one place so that the two cannot say different things.
+
+use serde::Serialize;
+
+use super::report::Checked;
+use super::{Stats, Verdict};
+use crate::scene::Scene;
+
+/// The outcome of a check, in the words of `vk-render check`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// Within the tolerance and explained by no mistake.
+    pub matches: bool,
+    /// "matches", "mistake", "tie" or "unexplained".
+    pub verdict: &'static str,
+    /// The mistakes the diagnosis names: one, the tied ones, or none.
+    pub mistakes: Vec<NamedMistake>,
+    /// The differences against the exact image, over the judged pixels.
+    pub statistics: Statistics,
+    /// The same per object and region.
+    pub regions: Vec<RegionStatistics>,
+    /// For a tie: the practical's scene that tells the tied mistakes apart, as `NAME --set 'KEY=VALUE' ...`.
+    pub tells_apart: Option<String>,
+    /// When no mistake explains the image: the objects whose own model explains it with other parameters.
+    pub wrong_parameters: Vec<WrongParameter>,
+}
+
+/// A mistake of the catalogue.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NamedMistake {
+    pub name: &'static str,
+    pub explanation: &'static str,
+    pub should_be: &'static str,
+    pub looks_like: &'static str,
+}
+
+/// Differences in 8-bit levels.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Statistics {
+    pub rms: f64,
+    pub mean: f64,
+    pub p99: f64,
+    /// The share of the judged pixels over the match's per-pixel tolerance.
+    pub over: f64,
+}
+
+/// The statistics of one region of one object (`object` None: the background).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RegionStatistics {
+    pub object: Option<usize>,
+    pub part: &'static str,
+    #[serde(flatten)]
+    pub statistics: Statistics,
+}
+
+/// An object's parameters fitted to the image where they differ from the scene's.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct WrongParameter {
+    pub object: usize,
+    pub material: String,
+    pub model: &'static str,
+    /// Each differing parameter's fitted components, and the scene's (in JSON, objects by name).
+    #[serde(serialize_with = "by_name")]
+    pub fitted: Vec<(String, Vec<f32>)>,
+    #[serde(serialize_with = "by_name")]
+    pub scene: Vec<(String, Vec<f32>)>,
+    pub residual_levels: f64,
+    pub scene_levels: f64,
+}
+
+/// Named values as an object, in their order.
+fn by_name<S: serde::Serializer>(values: &[(String, Vec<f32>)], serializer: S) -> Result<S::Ok, S::Error> {
+    serializer.collect_map(values.iter().map(|(name, v)| (name, v)))
+}
+
+impl From<&Stats> for Statistics {
+    fn from(s: &Stats) -> Self {
+        Self { rms: s.rms, mean: s.mean, p99: s.p99, over: s.over }
+    }
+}
+
+impl Verdict {
+    /// The verdict's one word.
+    pub fn word(&self) -> &'static str {
+        match self {
+            Verdict::Matches => "matches",
+            Verdict::Mistake(_) => "mistake",
+            Verdict::Tie(_) => "tie",
+            Verdict::Unexplained => "unexplained",
+        }
+    }
+}
+
+impl Summary {
+    /// The summary of `checked`, a check of an image against `scene`.
+    pub fn of(checked: &Checked, scene: &Scene) -> Self {
+        let mistakes = checked
+            .mistakes()
+            .into_iter()
+            .map(|m| NamedMistake {
+                name: m.name,
+                explanation: m.explanation,
+                should_be: m.should_be,
+                looks_like: m.looks_like,
+            })
+            .collect();
+        let regions = checked
+            .regions
+            .iter()
+            .map(|r| RegionStatistics { object: r.object, part: r.part, statistics: (&r.stats).into() })
+            .collect();
+        let wrong_parameters = checked
+            .wrong_parameters
+            .iter()
+            .map(|wrong| {
+                let object = &scene.objects[wrong.object];
+                WrongParameter {
+                    object: wrong.object,
+                    material: object.material.clone(),
+                    model: object.brdf.name(),
+                    fitted: wrong.differing.iter().map(|(name, fitted, _)| (name.clone(), fitted.clone())).collect(),
+                    scene: wrong.differing.iter().map(|(name, _, given)| (name.clone(), given.clone())).collect(),
+                    residual_levels: wrong.fitted.residual_levels,
+                    scene_levels: wrong.fitted.scene_levels,
+                }
+            })
+            .collect();
+        Self {
+            matches: checked.matches(),
+            verdict: checked.diagnosis.verdict.word(),
+            mistakes,
+            statistics: (&checked.diagnosis.against_exact).into(),
+            regions,
+            tells_apart: checked.tells_apart.map(|(shows_on, _)| scene_words(shows_on)),
+            wrong_parameters,
+        }
+    }
+}
+
+/// A scene of the practical and its overrides as a command line's words: `NAME --set 'KEY=VALUE' ...`.
+pub fn scene_words((name, overrides): (&str, &[&str])) -> String {
+    let sets: Vec<String> = overrides.iter().map(|o| format!("--set '{o}'")).collect();
+    format!("{name} {}", sets.join(" ")).trim_end().to_string()
+}

@@ -1,0 +1,116 @@
+//! The pages: static HTML, CSS and JavaScript embedded in the binary (no build step, nothing fetched from
+//! elsewhere: they work on a network without the Internet), and the headers every answer carries.
+
+use std::sync::Arc;
+
+use axum::extract::State;
+use axum::http::{header, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Redirect, Response};
+use axum::Form;
+use serde::Deserialize;
+
+use super::auth::{Access, SESSION_COOKIE};
+use super::App;
+
+/// One embedded file: its path under /static/, its type and its bytes.
+const STATIC: &[(&str, &str, &str)] = &[
+    ("style.css", "text/css; charset=utf-8", include_str!("pages/style.css")),
+    ("common.js", "text/javascript; charset=utf-8", include_str!("pages/common.js")),
+    ("explore.js", "text/javascript; charset=utf-8", include_str!("pages/explore.js")),
+    ("check.js", "text/javascript; charset=utf-8", include_str!("pages/check.js")),
+    ("report.js", "text/javascript; charset=utf-8", include_str!("pages/report.js")),
+    ("icon.svg", "image/svg+xml", include_str!("pages/icon.svg")),
+];
+
+const INDEX: &str = include_str!("pages/index.html");
+const EXPLORE: &str = include_str!("pages/explore.html");
+const CHECK: &str = include_str!("pages/check.html");
+const REPORT: &str = include_str!("pages/report.html");
+const SIGN_IN: &str = include_str!("pages/signin.html");
+
+/// The Content-Security-Policy of every answer: nothing but this server's own scripts, styles and
+/// connections (no inline script), pictures also from blobs the pages make, never inside another site's frame.
+pub const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'self'; style-src 'self'; \
+     img-src 'self' blob: data:; connect-src 'self'; form-action 'self'; base-uri 'none'; frame-ancestors 'none'";
+
+fn html(status: StatusCode, page: &'static str) -> Response {
+    (status, [(header::CONTENT_TYPE, "text/html; charset=utf-8")], page).into_response()
+}
+
+pub async fn index() -> Response {
+    html(StatusCode::OK, INDEX)
+}
+
+pub async fn explore() -> Response {
+    html(StatusCode::OK, EXPLORE)
+}
+
+pub async fn check() -> Response {
+    html(StatusCode::OK, CHECK)
+}
+
+/// A report's page: the same page for every id (its script reads the id from the address and asks the API);
+/// never cached, like everything of a report.
+pub async fn report() -> Response {
+    let mut response = html(StatusCode::OK, REPORT);
+    response.headers_mut().insert(header::CACHE_CONTROL, HeaderValue::from_static("no-store"));
+    response
+}
+
+/// The sign-in page, with `status` (200 when asked for, 401 in place of a page the token guards).
+pub fn sign_in(status: StatusCode) -> Response {
+    html(status, SIGN_IN)
+}
+
+/// `GET /static/NAME`.
+pub async fn asset(axum::extract::Path(name): axum::extract::Path<String>) -> Response {
+    match STATIC.iter().find(|(file, _, _)| *file == name) {
+        Some((_, kind, text)) => {
+            ([(header::CONTENT_TYPE, *kind), (header::CACHE_CONTROL, "no-cache")], *text).into_response()
+        }
+        None => (StatusCode::NOT_FOUND, "no such file\n").into_response(),
+    }
+}
+
+#[derive(Deserialize)]
+pub struct SignIn {
+    token: Option<String>,
+}
+
+/// `GET /signin?token=...` (the link the server prints) and `POST /signin` (the form): the token exchanged
+/// for a session cookie and a redirect to the front page, so that the token leaves the address bar.
+pub async fn sign_in_with(State(app): State<Arc<App>>, token: Option<SignIn>) -> Response {
+    let Some(access) = app.access.as_ref() else { return Redirect::to("/").into_response() };
+    match token.and_then(|t| t.token) {
+        None => sign_in(StatusCode::OK),
+        Some(token) if access.is_token(&token) => session(access),
+        Some(_) => sign_in(StatusCode::UNAUTHORIZED),
+    }
+}
+
+pub async fn sign_in_query(
+    state: State<Arc<App>>,
+    axum::extract::Query(query): axum::extract::Query<SignIn>,
+) -> Response {
+    sign_in_with(state, Some(query)).await
+}
+
+pub async fn sign_in_form(state: State<Arc<App>>, Form(form): Form<SignIn>) -> Response {
+    sign_in_with(state, Some(form)).await
+}
+
+fn session(access: &Access) -> Response {
+    let value = match access.open_session() {
+        Ok(value) => value,
+        Err(e) => return (StatusCode::INTERNAL_SERVER_ERROR, format!("cannot open a session: {e}\n")).into_response(),
+    };
+    let mut response = Redirect::to("/").into_response();
+    let cookie = format!("{SESSION_COOKIE}={value}; HttpOnly; SameSite=Strict; Path=/");
+    match HeaderValue::from_str(&cookie) {
+        Ok(cookie) => {
+            response.headers_mut().insert(header::SET_COOKIE, cookie);
+        }
+        Err(_) => return StatusCode::INTERNAL_SERVER_ERROR.into_response(),
+    }
+    response
+}

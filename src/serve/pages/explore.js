@@ -1,0 +1,259 @@
+// The explore page: the controls of a scene's material, light and camera, and the server's frames of them
+// over a WebSocket (motion frames while a control moves, then the exact still frame).
+"use strict";
+
+const page = {
+  scenes: [],
+  scene: null,     // the chosen scene's description (GET /api/scenes)
+  set: {},         // the overrides the controls made, by `--set` key
+  socket: null,
+  sent: 0,         // states sent
+  pending: null,   // the header of the frame whose PNG comes next
+  frames: [],      // when the last frames arrived, for the rate shown
+};
+
+const $ = (id) => document.getElementById(id);
+
+function showError(message) {
+  $("error").textContent = message || "";
+}
+
+// The picture's size: the scene's own, scaled down to fit the page's column (at most 1280 pixels wide).
+function pictureSize() {
+  const scene = page.scene;
+  const room = Math.min(1280, Math.max(64, $("frame").parentElement.clientWidth));
+  const scale = Math.min(1, room / scene.width);
+  return [Math.max(16, Math.round(scene.width * scale)), Math.max(16, Math.round(scene.height * scale))];
+}
+
+function request() {
+  const [width, height] = pictureSize();
+  return { scene: page.scene.id, set: page.set, width, height };
+}
+
+function sendState() {
+  if (!page.socket || page.socket.readyState !== WebSocket.OPEN) return;
+  page.sent += 1;
+  page.socket.send(JSON.stringify(request()));
+  studiesLater();
+}
+
+function connect() {
+  const scheme = location.protocol === "https:" ? "wss:" : "ws:";
+  const socket = new WebSocket(`${scheme}//${location.host}/api/explore`);
+  socket.binaryType = "blob";
+  socket.onopen = () => { $("status").textContent = "connected"; sendState(); };
+  socket.onclose = (event) => {
+    $("status").textContent = `disconnected${event.reason ? ": " + event.reason : ""}; reconnecting...`;
+    setTimeout(connect, 1000);
+  };
+  socket.onmessage = async (event) => {
+    if (typeof event.data === "string") {
+      const message = JSON.parse(event.data);
+      if (message.error) showError(message.error);
+      else page.pending = message;
+      return;
+    }
+    const header = page.pending;
+    page.pending = null;
+    if (!header) return;
+    const bitmap = await createImageBitmap(event.data);
+    draw(header, bitmap);
+  };
+  page.socket = socket;
+}
+
+// Draws a frame: a motion frame scaled up to the picture's size, the still frame pixel for pixel.
+function draw(header, bitmap) {
+  const canvas = $("frame");
+  const [width, height] = header.kind === "still" ? [header.width, header.height] : pictureSize();
+  if (canvas.width !== width || canvas.height !== height) {
+    canvas.width = width;
+    canvas.height = height;
+  }
+  const context = canvas.getContext("2d");
+  context.imageSmoothingEnabled = header.kind !== "still";
+  context.drawImage(bitmap, 0, 0, width, height);
+  canvas.dataset.frame = header.kind;
+  canvas.dataset.state = String(header.state);
+  const now = performance.now();
+  page.frames = page.frames.filter((t) => now - t < 1000).concat([now]);
+  $("status").textContent = header.kind === "still"
+    ? `still: the exact image, ${header.width} x ${header.height}`
+    : `moving: ${page.frames.length} frames/s at ${header.width} x ${header.height}, scaled up`;
+  if (header.kind === "still") showError("");
+}
+
+// One slider (or checkbox) for a parameter of the scene description.
+function control(parameter, component, label) {
+  const value = component === null ? parameter.value : parameter.value[component];
+  const key = parameter.key;
+  const row = el("label", { class: "control" }, label);
+  if (parameter.kind === "bool") {
+    const box = el("input", { type: "checkbox" });
+    box.checked = Boolean(value);
+    box.addEventListener("change", () => { page.set[key] = box.checked; sendState(); });
+    row.append(box, el("output"));
+    return row;
+  }
+  const log = parameter.log;
+  const [min, max] = [parameter.min ?? Math.min(0, value), parameter.max ?? Math.max(1, 2 * value)];
+  const toSlider = (v) => (log ? Math.log(Math.max(v, min)) : v);
+  const fromSlider = (s) => (log ? Math.exp(s) : s);
+  const slider = el("input", {
+    type: "range",
+    min: String(toSlider(min)),
+    max: String(toSlider(max)),
+    step: String((toSlider(max) - toSlider(min)) / 1000),
+    "data-key": key,
+    "data-component": component === null ? "" : String(component),
+  });
+  slider.value = String(toSlider(value));
+  const output = el("output", { text: shown(value) });
+  slider.addEventListener("input", () => {
+    const v = Number(fromSlider(Number(slider.value)).toPrecision(4));
+    output.textContent = shown(v);
+    if (component === null) page.set[key] = v;
+    else {
+      const current = Array.isArray(page.set[key]) ? page.set[key] : parameter.value.slice();
+      current[component] = v;
+      page.set[key] = current;
+    }
+    sendState();
+  });
+  row.append(slider, output);
+  return row;
+}
+
+function materialControls() {
+  const box = $("material");
+  box.replaceChildren(el("legend", { text: "Material" }));
+  const object = page.scene.objects[Number($("object").value)];
+  if (!object) return;
+  const material = page.scene.materials[object.material];
+  box.append(el("p", { class: "muted", text: `${object.material}: ${material.model}${material.file ? " (" + material.file + ")" : ""}` }));
+  if (material.parameters.length === 0) box.append(el("p", { class: "muted", text: "a measured material: no parameter" }));
+  for (const parameter of material.parameters) {
+    if (parameter.kind === "colour") {
+      ["r", "g", "b"].forEach((c, k) => box.append(control(parameter, k, `${parameter.name}.${c}`)));
+    } else {
+      box.append(control(parameter, null, parameter.name));
+    }
+  }
+}
+
+function lightControls() {
+  const box = $("light");
+  box.replaceChildren(el("legend", { text: "Light" }));
+  for (const light of page.scene.lights) {
+    const power = { key: `light.${light.index}.power`, kind: "number", value: light.power, min: 0, max: Math.max(1, light.power * 4), log: false };
+    box.append(control(power, null, `${light.index}: power`));
+    const reach = Math.max(5, ...light.position.map(Math.abs)) * 2;
+    const position = { key: `light.${light.index}.position`, kind: "colour", value: light.position, min: -reach, max: reach, log: false };
+    ["x", "y", "z"].forEach((c, k) => box.append(control(position, k, `${light.index}: ${c}`)));
+  }
+  if (page.scene.lights.length === 0) box.append(el("p", { class: "muted", text: "lit by its environment" }));
+}
+
+// Dragging the picture orbits the camera about what it looks at.
+function orbit() {
+  const canvas = $("frame");
+  let last = null;
+  canvas.addEventListener("pointerdown", (event) => {
+    last = [event.clientX, event.clientY];
+    canvas.setPointerCapture(event.pointerId);
+    canvas.classList.add("dragging");
+  });
+  canvas.addEventListener("pointerup", () => { last = null; canvas.classList.remove("dragging"); });
+  canvas.addEventListener("pointermove", (event) => {
+    if (!last) return;
+    const [dx, dy] = [event.clientX - last[0], event.clientY - last[1]];
+    last = [event.clientX, event.clientY];
+    const camera = page.scene.camera;
+    const position = page.set["camera.position"] || camera.position;
+    const target = camera.look_at;
+    const offset = position.map((p, k) => p - target[k]);
+    const radius = Math.hypot(...offset);
+    let azimuth = Math.atan2(offset[0], offset[2]) - dx * 0.01;
+    let elevation = Math.asin(offset[1] / radius) + dy * 0.01;
+    elevation = Math.max(-1.5, Math.min(1.5, elevation));
+    const moved = [
+      target[0] + radius * Math.cos(elevation) * Math.sin(azimuth),
+      target[1] + radius * Math.sin(elevation),
+      target[2] + radius * Math.cos(elevation) * Math.cos(azimuth),
+    ].map((v) => Number(v.toPrecision(6)));
+    page.set["camera.position"] = moved;
+    sendState();
+  });
+}
+
+let studiesTimer = null;
+let studiesAsked = 0;
+function studiesLater() {
+  clearTimeout(studiesTimer);
+  studiesTimer = setTimeout(studies, 250);
+}
+
+// The lobe and the albedo of the selected object's material with the current overrides.
+async function studies() {
+  const object = page.scene.objects[Number($("object").value)];
+  if (!object) return;
+  const asked = ++studiesAsked;
+  const body = { scene: page.scene.id, material: object.material, set: page.set };
+  for (const [id, path] of [["lobe", "/api/lobe?format=svg"], ["albedo", "/api/albedo?format=svg"]]) {
+    try {
+      const blob = await (await postJson(path, body)).blob();
+      if (asked !== studiesAsked) return;
+      const image = $(id);
+      if (image.src) URL.revokeObjectURL(image.src);
+      image.src = URL.createObjectURL(blob);
+    } catch (error) {
+      showError(`${id}: ${error.message}`);
+    }
+  }
+}
+
+function chooseScene(id) {
+  page.scene = page.scenes.find((s) => s.id === id) || page.scenes[0];
+  page.set = {};
+  const objects = $("object");
+  objects.replaceChildren(...page.scene.objects.map((o) => el("option", { value: String(o.index), text: `${o.index}: ${o.shape} (${o.material})` })));
+  materialControls();
+  lightControls();
+  sendState();
+  studies();
+}
+
+async function download() {
+  try {
+    const blob = await (await postJson("/api/scene-file", request())).blob();
+    const link = el("a", { href: URL.createObjectURL(blob), download: `${page.scene.id}.toml` });
+    document.body.append(link);
+    link.click();
+    link.remove();
+  } catch (error) {
+    showError(error.message);
+  }
+}
+
+async function start() {
+  try {
+    page.scenes = await getJson("/api/scenes");
+  } catch (error) {
+    showError(error.message);
+    return;
+  }
+  const select = $("scene");
+  select.replaceChildren(...page.scenes.map((s) => el("option", { value: s.id, text: s.title })));
+  const wanted = new URLSearchParams(location.search).get("scene");
+  if (wanted && page.scenes.some((s) => s.id === wanted)) select.value = wanted;
+  select.addEventListener("change", () => chooseScene(select.value));
+  $("object").addEventListener("change", () => { materialControls(); studies(); });
+  $("reset").addEventListener("click", () => chooseScene(page.scene.id));
+  $("download").addEventListener("click", download);
+  orbit();
+  chooseScene(select.value);
+  connect();
+}
+
+start();

@@ -1,0 +1,168 @@
+//! A headless Chromium driven over WebDriver (Debian's `chromium` and its matching `chromium-driver`): the
+//! few commands the browser tests use, spoken as JSON over the tests' own HTTP client.
+
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::{json, Value};
+
+use super::server::read_answer;
+
+/// A chromedriver and one browser session, both ended when dropped.
+pub struct Browser {
+    driver: Child,
+    address: SocketAddr,
+    session: String,
+}
+
+/// Where Debian installs them.
+pub const CHROMIUM: &str = "/usr/bin/chromium";
+pub const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
+
+impl Browser {
+    /// Starts chromedriver on a free port and a headless browser of `width` x `height` CSS pixels at a
+    /// device scale of 1 (a canvas's pixels are the page's), keeping the console's messages.
+    pub fn start(width: u32, height: u32) -> Self {
+        let port = TcpListener::bind("127.0.0.1:0").and_then(|l| l.local_addr()).expect("a free port").port();
+        let driver = Command::new(CHROMEDRIVER)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start chromedriver (make setup-test installs chromium-driver)");
+        let address = SocketAddr::from(([127, 0, 0, 1], port));
+        let started = Instant::now();
+        while TcpStream::connect(address).is_err() {
+            assert!(started.elapsed() < Duration::from_secs(30), "chromedriver did not start");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let mut browser = Self { driver, address, session: String::new() };
+        let capabilities = json!({"capabilities": {"alwaysMatch": {
+            "browserName": "chrome",
+            "goog:chromeOptions": {
+                "binary": CHROMIUM,
+                "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                         format!("--window-size={width},{height}"), "--force-device-scale-factor=1",
+                         "--force-color-profile=srgb", "--no-first-run", "--disable-extensions"],
+            },
+            "goog:loggingPrefs": {"browser": "ALL"},
+        }}});
+        let created = browser.call("POST", "/session", &capabilities);
+        browser.session = created["sessionId"].as_str().expect("a session id").to_string();
+        browser
+    }
+
+    /// A WebDriver command; its `value`. A WebDriver error fails the test.
+    pub fn call(&self, method: &str, path: &str, body: &Value) -> Value {
+        let mut stream = TcpStream::connect(self.address).expect("connect to chromedriver");
+        stream.set_read_timeout(Some(Duration::from_secs(120))).expect("a timeout");
+        let body = if body.is_null() { String::new() } else { body.to_string() };
+        let request = format!(
+            "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
+            self.address,
+            body.len()
+        );
+        std::io::Write::write_all(&mut stream, request.as_bytes()).expect("send to chromedriver");
+        let answer = read_answer(&mut stream);
+        let value: Value = serde_json::from_slice(&answer.body).expect("chromedriver answers JSON");
+        assert_eq!(answer.status, 200, "WebDriver {method} {path}: {value}");
+        value["value"].clone()
+    }
+
+    fn session_call(&self, method: &str, path: &str, body: &Value) -> Value {
+        self.call(method, &format!("/session/{}{path}", self.session), body)
+    }
+
+    pub fn open(&self, url: &str) {
+        self.session_call("POST", "/url", &json!({"url": url}));
+    }
+
+    /// Runs `script` (a function body; `arguments` are `args`) in the page and returns its value.
+    pub fn run(&self, script: &str, args: &[Value]) -> Value {
+        self.session_call("POST", "/execute/sync", &json!({"script": script, "args": args}))
+    }
+
+    /// Polls `script` until it returns true, within `within`.
+    pub fn wait_for(&self, what: &str, script: &str, within: Duration) {
+        let started = Instant::now();
+        while self.run(script, &[]) != json!(true) {
+            assert!(started.elapsed() < within, "waited {within:?} for {what}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// The page as a PNG.
+    pub fn screenshot(&self) -> Vec<u8> {
+        let encoded = self.session_call("GET", "/screenshot", &Value::Null);
+        base64(encoded.as_str().expect("a screenshot"))
+    }
+
+    /// The console's messages since the last call: (level, text).
+    pub fn console(&self) -> Vec<(String, String)> {
+        let entries = self.session_call("POST", "/se/log", &json!({"type": "browser"}));
+        entries
+            .as_array()
+            .map(|list| {
+                list.iter()
+                    .map(|e| {
+                        (e["level"].as_str().unwrap_or("").to_string(), e["message"].as_str().unwrap_or("").to_string())
+                    })
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        if !self.session.is_empty() {
+            let mut stream = TcpStream::connect(self.address);
+            if let Ok(stream) = stream.as_mut() {
+                let request =
+                    format!("DELETE /session/{} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n", self.session);
+                let _ = std::io::Write::write_all(stream, request.as_bytes());
+                let _ = stream.set_read_timeout(Some(Duration::from_secs(10)));
+                let _ = std::io::Read::read_to_end(stream, &mut Vec::new());
+            }
+        }
+        let _ = self.driver.kill();
+        let _ = self.driver.wait();
+    }
+}
+
+/// Standard base64 (WebDriver's screenshots, a canvas's data URL) decoded.
+pub fn base64(text: &str) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => Some(c - b'A'),
+        b'a'..=b'z' => Some(c - b'a' + 26),
+        b'0'..=b'9' => Some(c - b'0' + 52),
+        b'+' => Some(62),
+        b'/' => Some(63),
+        _ => None,
+    };
+    let sextets: Vec<u8> = text.bytes().filter_map(value).collect();
+    let mut out = Vec::with_capacity(sextets.len() * 3 / 4);
+    for group in sextets.chunks(4) {
+        let bits = group.iter().enumerate().fold(0u32, |bits, (i, &s)| bits | u32::from(s) << (18 - 6 * i));
+        let bytes = bits.to_be_bytes();
+        out.extend_from_slice(&bytes[1..group.len()]);
+    }
+    out
+}
+
+/// Standard base64 encoded (a file handed to the page).
+pub fn base64_encoded(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let bits = chunk.iter().enumerate().fold(0u32, |bits, (i, &b)| bits | u32::from(b) << (16 - 8 * i));
+        for i in 0..=chunk.len() {
+            out.push(ALPHABET[(bits >> (18 - 6 * i) & 63) as usize] as char);
+        }
+        for _ in chunk.len()..3 {
+            out.push('=');
+        }
+    }
+    out
+}
