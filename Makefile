@@ -7,13 +7,13 @@ RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1 glmark2-data
 PREVIEW_PACKAGES := libx11-6 libx11-xcb1 libxcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon0 libxkbcommon-x11-0
 # The shaderc crate's build compiles C++; build.rs finds the glslang and SPIRV-Tools archives with pkg-config.
 BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools glslc g++ pkg-config
-TEST_PACKAGES := vulkan-validationlayers xvfb xauth
+TEST_PACKAGES := vulkan-validationlayers xvfb xauth chromium chromium-driver curl
 
 CARGO ?= cargo
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test test-python test-current bench bench-fit bench-peer bench-python bless clean
+.PHONY: all setup setup-test build render test test-python test-current bench bench-fit bench-serve bench-peer bench-python bless clean
 
 all: render
 
@@ -61,6 +61,11 @@ bench: setup
 ## one run (mark: at most twice as long)
 bench-fit: setup
 	$(CARGO) bench --locked --bench fit
+
+## bench-serve: `vk-render serve` under load in one run: the explore page's frames, a check through the API
+## against `vk-render check`, 50 clients for a minute (benches/serve.rs)
+bench-serve: setup
+	$(CARGO) bench --locked --bench serve
 
 ## bench-peer: vk-render against pyrender (OpenGL on the same Mesa) on the same scenes, in one run, as ratios
 ## (scripts/bench-pyrender.sh; `scripts/stage-current.sh bench-peer` on Debian 13)

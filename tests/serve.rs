@@ -660,3 +660,36 @@ fn faults_leave_every_accepted_request_answered() {
     assert_eq!(code, Some(0), "{stderr}");
     assert!(took < Duration::from_secs(30), "stopping took {took:?}");
 }
+
+#[test]
+fn the_readmes_api_examples_run_as_written() {
+    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
+    let start = readme.find("\n### The HTTP API").expect("the README's API section");
+    let block = &readme[start..];
+    let block = &block[block.find("```sh\n").expect("its example") + 6..];
+    let script = &block[..block.find("```").unwrap()];
+    assert!(script.starts_with("VK=http://127.0.0.1:8080\n"), "{script}");
+    let server = Server::local();
+    let folder = common::temp_dir();
+    let script = script.replace("http://127.0.0.1:8080", &format!("http://{}", server.loopback()));
+    let output = std::process::Command::new("sh")
+        .args(["-eu", "-c", &script])
+        .current_dir(folder.path())
+        .output()
+        .expect("sh runs the README's example (curl comes with make setup-test)");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}{}", String::from_utf8_lossy(&output.stderr));
+    assert!(
+        stdout.contains("\"id\":\"fig1-lambert\"")
+            && stdout.contains("\"matches\":true")
+            && stdout.contains("theta_o,plastic_r"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("\"error_bound\""), "{stdout}");
+    let rendered = image::open(folder.path().join("fig1.png")).unwrap();
+    assert_eq!((rendered.width(), rendered.height()), (300, 200));
+    let scene = std::fs::read_to_string(folder.path().join("fig1-brighter.toml")).unwrap();
+    assert!(scene.contains("power = 30"), "{scene}");
+    let (code, stderr, _) = server.terminate(Duration::from_secs(30));
+    assert_eq!(code, Some(0), "{stderr}");
+}

@@ -179,3 +179,22 @@ fn brdf_diffuse_and_specular_add_up_in_the_rust_mirror() {
         }
     }
 }
+
+/// A renderer asked for more pipelines than it keeps destroys the least recently used ones and builds them
+/// again when asked: its images are unchanged and its count stays bounded (a server's memory).
+#[test]
+fn pipelines_past_the_bound_are_destroyed_and_rebuilt_unchanged() {
+    let mut renderer =
+        vk_render::Renderer::new(vk_render::RendererOptions { validate: true, ..Default::default() }).unwrap();
+    renderer.keep_pipelines(3);
+    let first = renderer.render_rgb8(&gold_scene(View::Radiance)).unwrap();
+    for view in View::ALL {
+        renderer.render_picture(&gold_scene(view)).unwrap();
+        assert!(renderer.pipelines_kept() <= 3, "{} pipelines kept", renderer.pipelines_kept());
+    }
+    assert!(
+        renderer.render_rgb8(&gold_scene(View::Radiance)).unwrap() == first,
+        "a rebuilt pipeline renders otherwise"
+    );
+    assert!(renderer.take_validation_messages().is_empty());
+}

@@ -29,7 +29,12 @@ pub struct ForwardPass {
     /// Each analytic model's fragment shaders compiled so far, by model, kind of object and variant.
     analytic: HashMap<(AnalyticShader, bool, usize), CompiledShader>,
     layout: Arc<PipelineLayout>,
-    pipelines: HashMap<PipelineKey, Pipeline>,
+    /// Each with the number of the last call of [`ForwardPass::pipelines`] that asked for it.
+    pipelines: HashMap<PipelineKey, (Pipeline, u64)>,
+    /// The calls of [`ForwardPass::pipelines`] so far.
+    calls: u64,
+    /// How many pipelines are kept at most.
+    pub kept_at_most: usize,
     device: Arc<Device>,
 }
 
@@ -69,6 +74,10 @@ impl Stages {
         (&self.vertex, &self.fragments[variant])
     }
 }
+
+/// The most forward pipelines a renderer keeps by default (a figure needs a few; every combination of models, views,
+/// sample counts and light counts would be thousands).
+pub const MAX_PIPELINES_KEPT: usize = 256;
 
 /// What a forward pipeline is built for.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -142,6 +151,8 @@ impl ForwardPass {
             analytic: HashMap::new(),
             layout: layout.clone(),
             pipelines: HashMap::new(),
+            calls: 0,
+            kept_at_most: MAX_PIPELINES_KEPT,
             device: device.clone(),
         })
     }
@@ -175,12 +186,40 @@ impl ForwardPass {
             }
         }
         let built = crate::parallel::rows(missing.len() as u32, |i| vec![self.build(&missing[i as usize])]);
+        self.calls += 1;
         for (key, pipeline) in missing.into_iter().zip(built) {
             let pipeline = pipeline?;
             log::debug!("built the forward pipeline for {key:?}");
-            self.pipelines.insert(key, pipeline);
+            self.pipelines.insert(key, (pipeline, self.calls));
         }
-        Ok(keys.iter().map(|key| self.pipelines[key].raw).collect())
+        let raw = keys
+            .iter()
+            .map(|key| {
+                let (pipeline, used) = self.pipelines.get_mut(key).expect("built above");
+                *used = self.calls;
+                pipeline.raw
+            })
+            .collect();
+        self.forget_least_recently_used();
+        Ok(raw)
+    }
+
+    /// How many pipelines are kept now.
+    pub fn kept(&self) -> usize {
+        self.pipelines.len()
+    }
+
+    /// Destroys the pipelines asked for least recently while more than `kept_at_most` are kept
+    /// (never those of this call: every earlier render has finished with its pipelines, as each waits for
+    /// its work). A server whose clients ask for every view, sample count and model in turn keeps a bounded
+    /// set.
+    fn forget_least_recently_used(&mut self) {
+        while self.pipelines.len() > self.kept_at_most {
+            let oldest =
+                self.pipelines.iter().filter(|(_, (_, used))| *used != self.calls).min_by_key(|(_, (_, used))| *used);
+            let Some(key) = oldest.map(|(key, _)| key.clone()) else { return };
+            self.pipelines.remove(&key);
+        }
     }
 
     fn build(&self, key: &PipelineKey) -> Result<Pipeline> {

@@ -84,6 +84,8 @@ pub struct Renderer {
     /// Built on first use: only the BRDF tests need it.
     probe: Option<ProbePass>,
     compiler: ShaderCompiler,
+    /// The passes of the shader sets used before, the most recent last.
+    kept_shaders: Vec<ShaderSet>,
     // Kept from image to image while they hold, by lifetime: the meshes per scene geometry, the shadow
     // cubes per lighting, the targets per image size; the scene data is rewritten every image.
     meshes: MeshUploads,
@@ -99,7 +101,8 @@ pub struct Renderer {
     analytic: AnalyticValues,
     /// What the analytic models gave that no BRDF may, over the work since it was last taken.
     invalid: Option<InvalidValues>,
-    /// The fast mode's albedo tables, by material (per process: they depend on the material alone).
+    /// The fast mode's albedo tables, by material (they depend on the material alone), the newest
+    /// [`ALBEDO_TABLES_KEPT`].
     albedo_tables: Vec<(Brdf, Vec<GpuAlbedoEntry>)>,
     /// How exact the last image's environment light was, when it was integrated in the exact mode.
     accuracy: Option<Accuracy>,
@@ -109,6 +112,22 @@ pub struct Renderer {
 /// Entries of an albedo table: cos(theta_o) = (k + 1/2) / ALBEDO_TABLE_SIZE for entry k, read linearly
 /// between (environment.glsl's `environment_albedo_at`).
 pub const ALBEDO_TABLE_SIZE: usize = 32;
+
+/// The passes of one set of shader sources.
+struct ShaderSet {
+    compiler: ShaderCompiler,
+    shadow: ShadowPass,
+    forward: ForwardPass,
+    resolve: ResolvePass,
+}
+
+/// The shader sets a renderer keeps besides the one in use: one for each of `check`'s mistakes of the
+/// shaders (15) and the embedded shaders, with room to spare.
+pub const SHADER_SETS_KEPT: usize = 20;
+
+/// The albedo tables kept: a material explored in an environment's fast mode makes one per value its
+/// controls take.
+const ALBEDO_TABLES_KEPT: usize = 64;
 
 /// The error bound asked of each entry: far below what the fast mode's split sum itself approximates.
 const ALBEDO_TABLE_TOLERANCE: f64 = 1e-4;
@@ -168,6 +187,7 @@ impl Renderer {
             background_counts: resolve::background_sample_counts(&device),
             probe: None,
             compiler,
+            kept_shaders: Vec::new(),
             meshes: MeshUploads::default(),
             shadow_cubes: None,
             targets: None,
@@ -185,30 +205,59 @@ impl Renderer {
         Ok(renderer)
     }
 
+    /// Keeps at most `count` forward pipelines (at least 1; 256 by default), destroying those asked for least
+    /// recently: a server that renders whatever its clients ask keeps its memory bounded.
+    pub fn keep_pipelines(&mut self, count: usize) {
+        self.forward.kept_at_most = count.max(1);
+    }
+
+    /// How many forward pipelines are kept now.
+    pub fn pipelines_kept(&self) -> usize {
+        self.forward.kept()
+    }
+
     /// The device, for what shares it (the preview's swapchain).
     pub fn device(&self) -> &Arc<Device> {
         &self.device
     }
 
-    /// Recompiles every pass from `shaders`; on any error the passes in use are kept.
+    /// Draws with the passes of `shaders` from now on: compiled from them, or taken back from the last
+    /// [`SHADER_SETS_KEPT`] sets used before (with the pipelines they built), so that switching between a
+    /// few sets (`check`'s mistakes, render after render) compiles each once. On any error the passes in use
+    /// are kept.
     ///
     /// # Errors
     /// `Error::Shader` naming the file and line, or `Error::Vulkan`.
     pub fn set_shaders(&mut self, shaders: ShaderSources) -> Result<()> {
-        let compiler = ShaderCompiler::new(shaders)?;
-        let shadow = ShadowPass::new(&self.device, &compiler, &self.layout)?;
-        let forward = ForwardPass::new(&self.device, &compiler, &self.layout)?;
-        let resolve = ResolvePass::new(&self.device, &compiler)?;
-        // Pipelines of the old passes may still be referenced by work in flight: renders wait for theirs.
-        self.shadow = shadow;
-        self.forward = forward;
-        self.resolve = resolve;
+        if *self.compiler.sources() == shaders {
+            return Ok(());
+        }
+        let kept = self.kept_shaders.iter().position(|set| *set.compiler.sources() == shaders);
+        let mut next = match kept {
+            Some(index) => self.kept_shaders.remove(index),
+            None => {
+                let compiler = ShaderCompiler::new(shaders)?;
+                let shadow = ShadowPass::new(&self.device, &compiler, &self.layout)?;
+                let forward = ForwardPass::new(&self.device, &compiler, &self.layout)?;
+                let resolve = ResolvePass::new(&self.device, &compiler)?;
+                ShaderSet { compiler, shadow, forward, resolve }
+            }
+        };
+        next.forward.kept_at_most = self.forward.kept_at_most;
+        // Pipelines of the passes set aside may still be referenced by work in flight: renders wait for theirs.
+        std::mem::swap(&mut self.compiler, &mut next.compiler);
+        std::mem::swap(&mut self.shadow, &mut next.shadow);
+        std::mem::swap(&mut self.forward, &mut next.forward);
+        std::mem::swap(&mut self.resolve, &mut next.resolve);
+        self.kept_shaders.push(next);
+        if self.kept_shaders.len() > SHADER_SETS_KEPT {
+            self.kept_shaders.remove(0);
+        }
         self.probe = None;
         // The cubes were drawn by the old shadow shaders.
         if let Some(cubes) = &mut self.shadow_cubes {
             cubes.set_drawn(None);
         }
-        self.compiler = compiler;
         self.check_validation()
     }
 
@@ -439,6 +488,9 @@ impl Renderer {
                 specular: rgba(s.rho),
             })
             .collect();
+        if self.albedo_tables.len() >= ALBEDO_TABLES_KEPT {
+            self.albedo_tables.remove(0);
+        }
         self.albedo_tables.push((brdf.clone(), table.clone()));
         Ok(table)
     }

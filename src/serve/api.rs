@@ -25,6 +25,7 @@ use vk_render::Scene;
 use super::catalogue::{is_id, Entry};
 use super::error::ApiError;
 use super::limits::{overrides, shortened};
+use super::workers::Lane;
 use super::App;
 
 /// The largest JSON body a request other than a check may send.
@@ -97,7 +98,7 @@ pub async fn render(State(app): State<Arc<App>>, body: Bytes) -> Result<Response
     let id = entry.id.clone();
     let png = app
         .workers
-        .run(move |renderer| {
+        .run(Lane::Quick, move |renderer| {
             let picture = renderer.render_picture(&scene)?;
             Ok(png_bytes(&picture.pixels)?)
         })
@@ -301,7 +302,7 @@ pub async fn lobe(
     let cuts: Vec<LobeCut> = theta_i.iter().map(|&theta_i| LobeCut { theta_i, phi, cosine }).collect();
     let format = query.format;
     app.workers
-        .run(move |renderer| {
+        .run(Lane::Quick, move |renderer| {
             let brdfs = [material.brdf.clone()];
             let values = cuts.iter().map(|cut| lobes(renderer, &brdfs, cut)).collect::<vk_render::Result<Vec<_>>>()?;
             let angles = lobe_angles();
@@ -333,7 +334,7 @@ pub async fn albedo(
     let channel = channel(&request)?;
     let format = query.format;
     app.workers
-        .run(move |renderer| {
+        .run(Lane::Long, move |renderer| {
             let radians: Vec<f64> = theta_o.iter().map(|a| a.to_radians()).collect();
             let albedos = directional_albedos(renderer, &material.brdf, &radians, ALBEDO_TOLERANCE)?;
             let bound = albedos.iter().fold(0.0f64, |b, a| b.max(a.error_bound));

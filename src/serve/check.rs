@@ -23,6 +23,7 @@ use super::catalogue::{Catalogue, Entry};
 use super::error::ApiError;
 use super::limits::{decoding_limits, overrides, shortened, Limits, Upload};
 use super::reports::{new_id, Report};
+use super::workers::Lane;
 use super::App;
 
 /// A report's pictures: name and PNG bytes.
@@ -119,7 +120,7 @@ pub async fn check(
     let worker_app = app.clone();
     let (mut json, pictures) = app
         .workers
-        .run(move |renderer| {
+        .run(Lane::Long, move |renderer| {
             let app = worker_app;
             let mine = decode_image(&sent.image, decoding_limits(&app.limits))
                 .map_err(|e| ApiError::bad_request(format!("image: {e}")))?;

@@ -21,6 +21,7 @@ use vk_render::output::png_bytes;
 
 use super::api::{json_object, requested_scene};
 use super::error::ApiError;
+use super::workers::Lane;
 use super::App;
 
 /// How long the controls must rest before the still frame is rendered.
@@ -199,7 +200,7 @@ async fn frame(app: &Arc<App>, state: &Map<String, Json>, motion: bool) -> Resul
     let (_, scene) = requested_scene(app, state)?;
     let scene = if motion { motion_scene(&scene) } else { scene };
     app.workers
-        .run(move |renderer| {
+        .run(Lane::Quick, move |renderer| {
             let picture = renderer.render_picture(&scene)?;
             Ok(Frame { width: scene.image.width, height: scene.image.height, png: png_bytes(&picture.pixels)? })
         })

@@ -64,7 +64,8 @@ pub struct ServeArgs {
     #[arg(long, value_name = "N", default_value_t = 2, value_parser = clap::value_parser!(u16).range(1..=64))]
     workers: u16,
 
-    /// Renders and checks that may wait for a worker; past them the server answers 503 with Retry-After.
+    /// Requests that may wait for a worker, in each of two queues (renders and frames; checks and albedos);
+    /// past them the server answers 503 with Retry-After.
     #[arg(long, value_name = "N", default_value_t = 32, value_parser = clap::value_parser!(u16).range(1..=4096))]
     queue: u16,
 
@@ -96,7 +97,7 @@ impl Bounds {
     pub const GRACE: Duration = Duration::from_secs(20);
     /// Reports kept at most, and their bytes.
     pub const REPORTS: usize = 2000;
-    pub const REPORT_BYTES: usize = 1 << 30;
+    pub const REPORT_BYTES: usize = 256 << 20;
 }
 
 /// What every handler shares.
@@ -203,7 +204,11 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .layer(headers(header::X_CONTENT_TYPE_OPTIONS, "nosniff"))
         .layer(headers(header::X_FRAME_OPTIONS, "DENY"))
         .layer(headers(header::REFERRER_POLICY, "no-referrer"))
-        .layer(tower_http::trace::TraceLayer::new_for_http())
+        // Requests at debug level (`-vv`); a refusal is an answer, not a server's failure.
+        .layer(
+            tower_http::trace::TraceLayer::new_for_http()
+                .on_failure(tower_http::trace::DefaultOnFailure::new().level(tracing::Level::DEBUG)),
+        )
         .with_state(app)
 }
 

@@ -118,6 +118,11 @@ impl ShaderCompiler {
         Ok(Self { compiler, sources: Arc::new(sources) })
     }
 
+    /// The sources it reads.
+    pub fn sources(&self) -> &ShaderSources {
+        &self.sources
+    }
+
     /// The SPIR-V of one entry file (its stage from the extension: .vert, .frag, .comp), or of one of its
     /// variants, `FILE+MACRO` or `FILE+MACRO+OTHER`: the file compiled with those macros defined (the file
     /// names the variant in a line `// variant: MACRO+OTHER`).

@@ -16,6 +16,8 @@ pub struct Server {
     pub address: SocketAddr,
     /// What it printed after its address (the sign-in link).
     pub printed: Vec<String>,
+    /// Its standard error so far (read on a thread of its own, so that the server never blocks on it).
+    stderr: std::sync::Arc<Mutex<String>>,
     _turn: MutexGuard<'static, ()>,
 }
 
@@ -44,15 +46,32 @@ impl Answer {
 impl Server {
     /// `vk-render --validate serve --listen LISTEN ARGS`, with `environment` set, once it prints its address.
     pub fn start(listen: &str, args: &[&str], environment: &[(&str, &str)]) -> Self {
+        Self::spawn(&["--validate"], listen, args, environment)
+    }
+
+    /// `vk-render GLOBAL serve --listen LISTEN ARGS` (the benchmark's, without the validation layer).
+    pub fn spawn(global: &[&str], listen: &str, args: &[&str], environment: &[(&str, &str)]) -> Self {
         let turn = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
         let mut command = Command::new(env!("CARGO_BIN_EXE_vk-render"));
-        command.args(["--validate", "serve", "--listen", listen]).args(args);
+        command.args(global).args(["serve", "--listen", listen]).args(args);
         command.env_remove("VK_RENDER_TOKEN");
         for (key, value) in environment {
             command.env(key, value);
         }
         let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("start vk-render serve");
         let stdout = child.stdout.take().expect("its standard output");
+        let stderr = std::sync::Arc::new(Mutex::new(String::new()));
+        let mut pipe = child.stderr.take().expect("its standard error");
+        let kept = stderr.clone();
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 4096];
+            while let Ok(n) = pipe.read(&mut buffer) {
+                if n == 0 {
+                    break;
+                }
+                kept.lock().unwrap_or_else(|p| p.into_inner()).push_str(&String::from_utf8_lossy(&buffer[..n]));
+            }
+        });
         let (lines, printed) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             use std::io::BufRead;
@@ -66,8 +85,9 @@ impl Server {
             Ok(line) => line,
             Err(_) => {
                 let _ = child.kill();
-                let output = child.wait_with_output().expect("its output");
-                panic!("vk-render serve did not start: {}", String::from_utf8_lossy(&output.stderr));
+                let _ = child.wait();
+                std::thread::sleep(Duration::from_millis(100));
+                panic!("vk-render serve did not start: {}", stderr.lock().unwrap_or_else(|p| p.into_inner()));
             }
         };
         let address = first
@@ -79,7 +99,7 @@ impl Server {
         while let Ok(line) = printed.recv_timeout(Duration::from_millis(200)) {
             rest.push(line);
         }
-        Self { child, address, printed: rest, _turn: turn }
+        Self { child, address, printed: rest, stderr, _turn: turn }
     }
 
     /// A server of the tests' defaults on 127.0.0.1.
@@ -92,25 +112,14 @@ impl Server {
         SocketAddr::from(([127, 0, 0, 1], self.address.port()))
     }
 
-    /// Sends `request` (the whole request's bytes) and reads the answer to its end (the request must ask
-    /// for `Connection: close`).
+    /// Sends `request` (the whole request's bytes) and reads the answer.
     pub fn raw(&self, request: &[u8]) -> Answer {
-        let mut stream = TcpStream::connect(self.loopback()).expect("connect");
-        stream.set_read_timeout(Some(Duration::from_secs(180))).expect("a read timeout");
-        stream.write_all(request).expect("send the request");
-        read_answer(&mut stream)
+        raw(self.loopback(), request)
     }
 
     /// `METHOD PATH` with `headers` and `body`.
     pub fn send(&self, method: &str, path: &str, headers: &[(&str, &str)], body: &[u8]) -> Answer {
-        let mut request = format!("{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\n", self.loopback());
-        for (name, value) in headers {
-            request.push_str(&format!("{name}: {value}\r\n"));
-        }
-        request.push_str(&format!("Content-Length: {}\r\n\r\n", body.len()));
-        let mut bytes = request.into_bytes();
-        bytes.extend_from_slice(body);
-        self.raw(&bytes)
+        request(self.loopback(), method, path, headers, body)
     }
 
     pub fn get(&self, path: &str) -> Answer {
@@ -166,10 +175,9 @@ impl Server {
             }
             std::thread::sleep(Duration::from_millis(20));
         };
-        let mut stderr = String::new();
-        if let Some(mut pipe) = self.child.stderr.take() {
-            let _ = pipe.read_to_string(&mut stderr);
-        }
+        // The reading thread sees the pipe close once the server has exited.
+        std::thread::sleep(Duration::from_millis(50));
+        let stderr = self.stderr.lock().unwrap_or_else(|p| p.into_inner()).clone();
         (status, stderr, started.elapsed())
     }
 }
@@ -181,6 +189,26 @@ impl Drop for Server {
             let _ = self.child.wait();
         }
     }
+}
+
+/// Sends `request` (the whole request's bytes) to `address` and reads the answer.
+pub fn raw(address: SocketAddr, request: &[u8]) -> Answer {
+    let mut stream = TcpStream::connect(address).expect("connect");
+    stream.set_read_timeout(Some(Duration::from_secs(180))).expect("a read timeout");
+    stream.write_all(request).expect("send the request");
+    read_answer(&mut stream)
+}
+
+/// `METHOD PATH` with `headers` and `body` to `address`, on a connection of its own.
+pub fn request(address: SocketAddr, method: &str, path: &str, headers: &[(&str, &str)], body: &[u8]) -> Answer {
+    let mut request = format!("{method} {path} HTTP/1.1\r\nHost: {address}\r\nConnection: close\r\n");
+    for (name, value) in headers {
+        request.push_str(&format!("{name}: {value}\r\n"));
+    }
+    request.push_str(&format!("Content-Length: {}\r\n\r\n", body.len()));
+    let mut bytes = request.into_bytes();
+    bytes.extend_from_slice(body);
+    raw(address, &bytes)
 }
 
 /// Reads an HTTP/1.1 answer: status, headers, and the body its Content-Length gives (else to the end of the
