@@ -382,6 +382,18 @@ fn hostile_inputs_get_their_status_and_one_line_and_the_next_request_is_served()
         400,
         "`bogus`: no such field",
     );
+    // A slow body: the request is answered 408 after the body timeout (30 s), on a thread while the rest goes on.
+    let address = server.loopback();
+    let slow_body = std::thread::spawn(move || {
+        let mut stream = TcpStream::connect(address).unwrap();
+        let (kind, _) = common::server::multipart(&[]);
+        let head = format!("POST /api/check HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Type: {kind}\r\nContent-Length: 100000\r\n\r\n");
+        stream.write_all(head.as_bytes()).unwrap();
+        stream.write_all(b"--vk-render-test-boundary-7f3a\r\n").unwrap();
+        let started = Instant::now();
+        stream.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+        (read_answer(&mut stream), started.elapsed())
+    });
     // Slow headers: the connection is dropped after the header timeout, and others are served meanwhile.
     let mut slow = TcpStream::connect(server.loopback()).unwrap();
     slow.write_all(b"GET /api/scenes HTTP/1.1\r\nHost: x\r\n").unwrap();
@@ -394,6 +406,9 @@ fn hostile_inputs_get_their_status_and_one_line_and_the_next_request_is_served()
     let waited = started.elapsed();
     assert!(waited >= Duration::from_secs(8) && waited < Duration::from_secs(20), "dropped after {waited:?}");
     assert!(server.get("/api/status").status == 200);
+    let (answer, waited) = slow_body.join().unwrap();
+    assert_eq!(answer.status, 408, "{}", answer.text());
+    assert!(waited >= Duration::from_secs(25) && waited < Duration::from_secs(45), "answered after {waited:?}");
     // A WebSocket flood: closed as a policy violation.
     let (mut socket, _) = tungstenite::client::client(
         format!("ws://{}/api/explore", server.loopback()),

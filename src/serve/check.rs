@@ -95,12 +95,24 @@ async fn read_form(mut form: Multipart, limits: &Limits) -> Result<Sent, ApiErro
 }
 
 fn multipart_error(error: axum::extract::multipart::MultipartError) -> ApiError {
-    let status = error.status();
-    let message = match status {
-        StatusCode::PAYLOAD_TOO_LARGE => "the upload is larger than this server takes".to_string(),
-        _ => format!("the form cannot be read: {}", error.body_text()),
-    };
-    ApiError::new(status, message)
+    // A body that stopped coming (the body timeout) or broke off is the client's doing, not the server's.
+    let mut source: Option<&(dyn std::error::Error + 'static)> = Some(&error);
+    while let Some(cause) = source {
+        if cause.is::<tower_http::timeout::TimeoutError>() {
+            return ApiError::new(
+                StatusCode::REQUEST_TIMEOUT,
+                format!("the upload did not come within {} s", super::Bounds::BODY.as_secs()),
+            );
+        }
+        source = cause.source();
+    }
+    match error.status() {
+        StatusCode::PAYLOAD_TOO_LARGE => ApiError::too_large("the upload is larger than this server takes".into()),
+        StatusCode::INTERNAL_SERVER_ERROR => {
+            ApiError::bad_request(format!("the upload broke off: {}", error.body_text()))
+        }
+        status => ApiError::new(status, format!("the form cannot be read: {}", error.body_text())),
+    }
 }
 
 /// `POST /api/check`.
