@@ -20,13 +20,14 @@ use vk_render::brdf::Brdf;
 use vk_render::chart::chart_svg;
 use vk_render::output::png_bytes;
 use vk_render::scene::overridden;
-use vk_render::Scene;
+use vk_render::{Renderer, Scene};
 
 use super::catalogue::{is_id, Entry};
 use super::error::ApiError;
-use super::limits::{overrides, shortened};
+use super::limits::overrides;
 use super::workers::Lane;
 use super::App;
+use vk_render::files::shortened;
 
 /// The largest JSON body a request other than a check may send.
 pub const MAX_JSON_BYTES: usize = 64 << 10;
@@ -98,13 +99,16 @@ pub async fn render(State(app): State<Arc<App>>, body: Bytes) -> Result<Response
     let id = entry.id.clone();
     let png = app
         .workers
-        .run(Lane::Quick, move |renderer| {
-            let picture = renderer.render_picture(&scene)?;
-            Ok(png_bytes(&picture.pixels)?)
-        })
+        .run(Lane::Quick, move |renderer| rendered_png(renderer, &scene))
         .await
         .map_err(|e| named(e, &id))?;
     Ok(([(header::CONTENT_TYPE, "image/png")], png).into_response())
+}
+
+/// The PNG `vk-render render` writes for `scene`: what the render route answers and the explore page's
+/// frames are.
+pub fn rendered_png(renderer: &mut Renderer, scene: &Scene) -> Result<Vec<u8>, ApiError> {
+    Ok(png_bytes(&renderer.render_picture(scene)?.pixels)?)
 }
 
 fn named(mut error: ApiError, id: &str) -> ApiError {

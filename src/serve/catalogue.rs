@@ -237,29 +237,37 @@ fn built_in_range(name: &str) -> (f32, f32, bool) {
     }
 }
 
+impl ParameterDescription {
+    /// A control of `kind` for `key`, at `value`, spanning `range` (its bounds and whether on a log scale).
+    fn new(
+        name: &str,
+        key: String,
+        kind: &'static str,
+        value: serde_json::Value,
+        range: Option<(f32, f32, bool)>,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            key,
+            kind,
+            value,
+            min: range.map(|r| r.0),
+            max: range.map(|r| r.1),
+            log: range.is_some_and(|r| r.2),
+        }
+    }
+}
+
+/// A colour's control spans each component from 0 to 1.
+const COLOUR_RANGE: (f32, f32, bool) = (0.0, 1.0, false);
+
 fn describe_material(material: &str, brdf: &Brdf) -> MaterialDescription {
     let key = |name: &str| format!("material.{material}.{name}");
-    let colour = |v: glam::Vec3| serde_json::json!(v.to_array());
     let number = |name: &str, value: f32| {
-        let (min, max, log) = built_in_range(name);
-        ParameterDescription {
-            name: name.into(),
-            key: key(name),
-            kind: "number",
-            value: serde_json::json!(value),
-            min: Some(min),
-            max: Some(max),
-            log,
-        }
+        ParameterDescription::new(name, key(name), "number", serde_json::json!(value), Some(built_in_range(name)))
     };
-    let rgb = |name: &str, value: glam::Vec3| ParameterDescription {
-        name: name.into(),
-        key: key(name),
-        kind: "colour",
-        value: colour(value),
-        min: Some(0.0),
-        max: Some(1.0),
-        log: false,
+    let rgb = |name: &str, value: glam::Vec3| {
+        ParameterDescription::new(name, key(name), "colour", serde_json::json!(value.to_array()), Some(COLOUR_RANGE))
     };
     let (parameters, file) = match brdf {
         Brdf::Lambert { kd } => (vec![rgb("kd", *kd)], None),
@@ -276,45 +284,28 @@ fn describe_material(material: &str, brdf: &Brdf) -> MaterialDescription {
             let parameters = analytic
                 .values()
                 .map(|(parameter, value)| {
-                    let key = key(&format!("params.{}", parameter.name));
-                    let name = parameter.name.clone();
+                    let (name, key) = (&parameter.name, key(&format!("params.{}", parameter.name)));
                     match (parameter.kind, value) {
-                        (ParameterKind::Float { min, max, .. }, ParameterValue::Float(v)) => ParameterDescription {
+                        (ParameterKind::Float { min, max, .. }, ParameterValue::Float(v)) => ParameterDescription::new(
                             name,
                             key,
-                            kind: "number",
-                            value: serde_json::json!(v),
-                            min: Some(min),
-                            max: Some(max),
-                            log: false,
-                        },
-                        (_, ParameterValue::Color(c)) => ParameterDescription {
+                            "number",
+                            serde_json::json!(v),
+                            Some((min, max, false)),
+                        ),
+                        (_, ParameterValue::Float(v)) => {
+                            ParameterDescription::new(name, key, "number", serde_json::json!(v), None)
+                        }
+                        (_, ParameterValue::Color(c)) => ParameterDescription::new(
                             name,
                             key,
-                            kind: "colour",
-                            value: colour(c),
-                            min: Some(0.0),
-                            max: Some(1.0),
-                            log: false,
-                        },
-                        (_, ParameterValue::Bool(b)) => ParameterDescription {
-                            name,
-                            key,
-                            kind: "bool",
-                            value: serde_json::json!(b),
-                            min: None,
-                            max: None,
-                            log: false,
-                        },
-                        (_, ParameterValue::Float(v)) => ParameterDescription {
-                            name,
-                            key,
-                            kind: "number",
-                            value: serde_json::json!(v),
-                            min: None,
-                            max: None,
-                            log: false,
-                        },
+                            "colour",
+                            serde_json::json!(c.to_array()),
+                            Some(COLOUR_RANGE),
+                        ),
+                        (_, ParameterValue::Bool(b)) => {
+                            ParameterDescription::new(name, key, "bool", serde_json::json!(b), None)
+                        }
                     }
                 })
                 .collect();

@@ -17,9 +17,8 @@ use serde_json::{json, Map, Value as Json};
 use tokio::sync::watch;
 
 use vk_render::frames::motion_scene;
-use vk_render::output::png_bytes;
 
-use super::api::{json_object, requested_scene};
+use super::api::{json_object, rendered_png, requested_scene};
 use super::error::ApiError;
 use super::workers::Lane;
 use super::App;
@@ -201,8 +200,7 @@ async fn frame(app: &Arc<App>, state: &Map<String, Json>, motion: bool) -> Resul
     let scene = if motion { motion_scene(&scene) } else { scene };
     app.workers
         .run(Lane::Quick, move |renderer| {
-            let picture = renderer.render_picture(&scene)?;
-            Ok(Frame { width: scene.image.width, height: scene.image.height, png: png_bytes(&picture.pixels)? })
+            Ok(Frame { width: scene.image.width, height: scene.image.height, png: rendered_png(renderer, &scene)? })
         })
         .await
 }

@@ -4,6 +4,7 @@
 
 use serde_json::Value as Json;
 
+use vk_render::files::shortened;
 use vk_render::scene::Shorthands;
 use vk_render::{Override, Scene};
 
@@ -126,14 +127,6 @@ fn number(n: &serde_json::Number) -> Option<toml::Value> {
         return Some(toml::Value::Integer(i));
     }
     n.as_f64().filter(|f| f.is_finite()).map(toml::Value::Float)
-}
-
-/// Text cut at 60 characters for an error line.
-pub fn shortened(text: &str) -> String {
-    match text.char_indices().nth(60) {
-        Some((cut, _)) => format!("{}...", &text[..cut]),
-        None => text.to_string(),
-    }
 }
 
 impl Limits {
