@@ -116,14 +116,17 @@ impl Browser {
 
 impl Drop for Browser {
     fn drop(&mut self) {
+        // Ending the session ends the browser (chromedriver refuses a request whose Host is not its own).
         if !self.session.is_empty() {
-            let mut stream = TcpStream::connect(self.address);
-            if let Ok(stream) = stream.as_mut() {
-                let request =
-                    format!("DELETE /session/{} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n", self.session);
-                let _ = std::io::Write::write_all(stream, request.as_bytes());
-                let _ = stream.set_read_timeout(Some(Duration::from_secs(10)));
-                let _ = std::io::Read::read_to_end(stream, &mut Vec::new());
+            if let Ok(mut stream) = TcpStream::connect(self.address) {
+                let request = format!(
+                    "DELETE /session/{} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Length: 0\r\n\r\n",
+                    self.session, self.address
+                );
+                let _ = stream.set_read_timeout(Some(Duration::from_secs(30)));
+                if std::io::Write::write_all(&mut stream, request.as_bytes()).is_ok() {
+                    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| read_answer(&mut stream)));
+                }
             }
         }
         let _ = self.driver.kill();
