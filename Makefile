@@ -1,5 +1,5 @@
 # vk-render: `make render` renders the figures into out/, `make test` runs every test.
-# Both first install the Debian packages they need (see BUILD_NOTES in the README).
+# Both first install the Debian packages they need (see "The two commands" in the README).
 
 # Debian packages, by what needs them.
 RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1 glmark2-data
@@ -13,7 +13,7 @@ CARGO ?= cargo
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test test-python test-current bench bench-fit bench-serve bench-peer bench-python bless clean
+.PHONY: all setup setup-test build render test test-python wheel test-current bench bench-fit bench-serve bench-peer bench-python bless clean
 
 all: render
 
@@ -34,24 +34,35 @@ build: setup
 render: build
 	$(BIN) figures -o $(OUT)
 
-## test: every test (unit, shader compilation, GPU renders with validation, CLI errors); then builds the
-## benchmarks and the build without the preview, so that neither can rot; then the Python package's tests
+## test: every test (unit, shader compilation, GPU renders with validation, CLI errors); then the library's
+## API reference (cargo doc, every warning an error: a public item without docs or a broken link fails);
+## then builds the benchmarks and the build without the preview, so that neither can rot; then the Python
+## package's tests
 test: setup-test
 	$(CARGO) test --release --locked
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --release --locked --no-deps --lib
 	$(CARGO) bench --locked --no-run
 	$(CARGO) build --release --locked --no-default-features
 	$(MAKE) --no-print-directory test-python
 
-## test-python: the Python package's tests: `pip install ./python` into a venv made once
-## (scripts/python-env.sh: target/python-venv, with pytest, Dask and matplotlib pinned), then pytest
+## test-python: the Python package's tests: its wheel (make wheel, or the one VK_RENDER_WHEEL names) installed
+## into a venv made once (scripts/python-env.sh: target/python-venv, with pytest, Dask and matplotlib pinned),
+## then pytest with no cargo on PATH (scripts/test-python.sh)
 test-python: setup-test
 	$(CARGO) build --release --locked
-	cd python/tests && "$$(../../scripts/python-env.sh)" -m pytest -q -p no:cacheprovider
+	VK_RENDER_WHEEL="$(VK_RENDER_WHEEL)" scripts/test-python.sh
+
+## wheel: the Python package as a wheel, target/wheels/vk_render-*.whl (maturin; abi3, one wheel for CPython
+## 3.9 on; the manylinux tag its symbols allow, checked by auditwheel), which pip installs without Rust
+wheel: setup
+	@scripts/build-wheel.sh >/dev/null
 
 ## test-current: `make test` again in a Debian 13 root (Mesa 25 lavapipe, validation layer 1.4), made once
-## from Debian's packages and cached (scripts/stage-current.sh; needs root or sudo)
-test-current:
-	scripts/stage-current.sh test
+## from Debian's packages and cached (scripts/stage-current.sh; needs root or sudo); its Python tests run
+## against the wheel built here (on Debian 12 in CI), installed there without cargo on PATH
+WHEELS := $(abspath $(or $(CARGO_TARGET_DIR),target))/wheels
+test-current: wheel
+	scripts/stage-current.sh test VK_RENDER_WHEEL="$$(ls $(WHEELS)/vk_render-*.whl)"
 
 ## bench: the renderer's benchmark (median of 9 runs each); `scripts/stage-current.sh bench` on Debian 13
 bench: setup

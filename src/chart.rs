@@ -47,7 +47,9 @@ pub trait Chart {
 /// The kinds of file a chart may be written to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ChartFile {
+    /// A PNG image (`.png`), drawn with the embedded font.
     Png,
+    /// An SVG drawing (`.svg`).
     Svg,
 }
 
@@ -121,8 +123,11 @@ pub fn text(size: f64) -> TextStyle<'static> {
 /// One curve: its legend, its colour and its points.
 #[derive(Clone, Debug)]
 pub struct Series {
+    /// Its legend entry.
     pub label: String,
+    /// Its line colour.
     pub colour: RGBColor,
+    /// (x, y) in the chart's axis units, drawn in order.
     pub points: Vec<(f64, f64)>,
     /// Drawn dashed (a second quantity of the same material, e.g. a bound).
     pub dashed: bool,
@@ -132,13 +137,21 @@ pub struct Series {
 /// reference lines (e.g. y = 1 in a furnace plot).
 #[derive(Clone, Debug)]
 pub struct LineChart {
+    /// Above the plot; empty for none.
     pub title: String,
+    /// The x axis's title.
     pub x_label: String,
+    /// The y axis's title.
     pub y_label: String,
+    /// The x axis's span, (least, greatest).
     pub x_range: (f64, f64),
+    /// The y axis's span, (least, greatest).
     pub y_range: (f64, f64),
+    /// The curves, drawn in order, each with its legend entry.
     pub series: Vec<Series>,
+    /// y values at which a black line crosses the whole chart (e.g. 1 in a furnace plot).
     pub horizontal_rules: Vec<f64>,
+    /// The picture's size in pixels (width, height).
     pub size: (u32, u32),
 }
 
@@ -220,6 +233,7 @@ pub fn value_range<'a>(values: impl IntoIterator<Item = &'a f64>) -> (f64, f64) 
 /// same curves against theta_o.
 #[derive(Clone, Debug)]
 pub struct LobeChart {
+    /// Above the polar half.
     pub title: String,
     /// What the curves are, for the radial and y axes, e.g. "f_r cos θo (luminance)".
     pub quantity: String,
@@ -328,9 +342,13 @@ fn short_number(value: f64) -> String {
 /// A table as a picture: a title, a header row, rows of cells each row in its colour, and a note below.
 #[derive(Clone, Debug)]
 pub struct TableChart {
+    /// Above the table.
     pub title: String,
+    /// The columns' titles.
     pub header: Vec<String>,
+    /// One row's cells and their text colour; a row with fewer cells than the header leaves the last columns empty.
     pub rows: Vec<(Vec<String>, RGBColor)>,
+    /// One line below the table, grey.
     pub note: String,
 }
 
@@ -387,20 +405,28 @@ impl Chart for TableChart {
 /// `None` is drawn grey (no value there).
 #[derive(Clone, Debug)]
 pub struct HeatMap {
+    /// The panel's caption.
     pub label: String,
+    /// The side of its grid: `cells` x `cells` values.
     pub cells: usize,
+    /// `cells * cells` values, row by row: value `row * cells + column`, row 0 at the bottom.
     pub values: Vec<Option<f64>>,
 }
 
 /// Heat maps side by side on one colour scale (viridis), with its colour bar: BRDF Explorer's image slice.
 #[derive(Clone, Debug)]
 pub struct HeatMapChart {
+    /// Above the panels.
     pub title: String,
+    /// The x axis's title under each panel.
     pub x_label: String,
+    /// The y axis's title beside each panel.
     pub y_label: String,
     /// What the colours are, for the colour bar.
     pub quantity: String,
+    /// The panels, left to right.
     pub panels: Vec<HeatMap>,
+    /// The values at the colour scale's ends, (low, high); values beyond take the end's colour.
     pub range: (f64, f64),
 }
 

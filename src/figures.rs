@@ -9,7 +9,9 @@ use crate::scene::{Override, Scene};
 
 /// One image of a figure: its scene file (under assets/scenes/) and its label on the contact sheet.
 pub struct FigureImage {
+    /// The scene file's name under assets/scenes/, e.g. `fig1-lambert.toml`.
     pub file: &'static str,
+    /// Its tile's label on the contact sheet.
     pub label: &'static str,
     text: &'static str,
 }

@@ -17,8 +17,9 @@ use crate::Renderer;
 pub const SETTLE_FRAMES: u32 = 3;
 
 /// A motion frame is drawn at 1/MOTION_SCALE of the window's width and height, with MOTION_SAMPLES samples
-/// a pixel, and scaled up bilinearly (measured in the README's benchmark: the orbiting bunny's frame).
+/// a pixel, and scaled up bilinearly (measured in docs/performance.md's benchmark: the orbiting bunny's frame).
 pub const MOTION_SCALE: u32 = 2;
+/// Samples a pixel of a motion frame: see [`MOTION_SCALE`].
 pub const MOTION_SAMPLES: u32 = 1;
 
 /// What the frames so far were of: the scene of the last one, and for how many frames it has not changed.
@@ -58,7 +59,12 @@ pub enum Shown {
     /// The fast mode (something moved, or too few exact passes yet).
     Fast,
     /// The mean of the exact passes so far.
-    Exact { samples: u32, done: bool },
+    Exact {
+        /// The environment's samples a pixel so far, over every pass.
+        samples: u32,
+        /// Whether the exact mode's bound says the image is done.
+        done: bool,
+    },
 }
 
 impl Shown {

@@ -13,7 +13,9 @@ use crate::scene::Override;
 /// TOML value it sets.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GridValue {
+    /// The value as the user wrote it, trimmed: what labels and file names show.
     pub text: String,
+    /// The TOML value it sets (a string when the text is no TOML value).
     pub value: toml::Value,
 }
 
@@ -36,7 +38,9 @@ impl GridValue {
 /// One scene key of a grid (a dotted path, as `--set` takes it) and its values, in order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GridParam {
+    /// The dotted scene key, e.g. `material.grey.sigma`.
     pub key: String,
+    /// Its values, in the order the grid steps through them.
     pub values: Vec<GridValue>,
 }
 
@@ -208,7 +212,9 @@ fn file_safe(text: &str, also: &str) -> String {
 /// render each combination exactly once.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
+    /// Which share, from 1 to `n`.
     pub k: usize,
+    /// How many shares, at least 1.
     pub n: usize,
 }
 

@@ -5,6 +5,8 @@
 //! [`vulkan`], and [`output`] applies the output transform and writes PNG or EXR files. [`brdf`] is the
 //! Rust mirror of the GLSL reflectance models in `shaders/brdf/`.
 
+#![deny(missing_docs)]
+
 pub mod analysis;
 pub mod brdf;
 pub mod chart;

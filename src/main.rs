@@ -73,8 +73,8 @@ enum Command {
     /// Render two scenes and compare them: side by side with the map of their differences and its colour
     /// bar (PNG), mean / p99 / max differences printed.
     Compare(commands::compare::CompareArgs),
-    /// Serve the checker and a material explorer to browsers, with an HTTP API (see the README's section for
-    /// a course's staff): prints `listening on http://ADDR:PORT` once it accepts connections.
+    /// Serve the checker and a material explorer to browsers, with an HTTP API (see docs/serve.md, the guide's
+    /// page for a course's staff): prints `listening on http://ADDR:PORT` once it accepts connections.
     #[cfg(feature = "serve")]
     Serve(serve::ServeArgs),
     /// List the Vulkan devices and which one is used by default.

@@ -10,8 +10,11 @@ use crate::scene::{Encoding, ImageSettings, Tonemap, View};
 /// A linear HDR image: RGB radiance per pixel, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HdrImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width * height` linear RGB values (a radiance, or the term a view shows), row by row: see [`HdrImage::at`].
     pub pixels: Vec<Vec3>,
 }
 
@@ -52,8 +55,11 @@ impl HdrImage {
 /// directly and the others (D, f_r) fill the range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TermScale {
+    /// The view it scales.
     pub view: View,
+    /// The value written as level 0.
     pub low: f32,
+    /// The value written as level 255.
     pub high: f32,
 }
 
@@ -89,8 +95,11 @@ impl TermScale {
 /// How encoded pixels are laid out: 3 bytes (RGB, a PNG's), or 4 with alpha 255 in a window's order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TexelOrder {
+    /// 3 bytes: R, G, B (a PNG's).
     Rgb,
+    /// 4 bytes: R, G, B, 255.
     Rgba,
+    /// 4 bytes: B, G, R, 255 (a `B8G8R8A8` swapchain's).
     Bgra,
 }
 

@@ -19,9 +19,13 @@ const BAR_LABELS: u32 = 64;
 
 /// Two images' differences: the statistics in 8-bit levels, and per pixel the largest channel difference.
 pub struct Difference {
+    /// The differences' statistics, in 8-bit levels.
     pub stats: Comparison,
+    /// Per pixel, row by row from the top, the largest channel difference in levels.
     pub levels: Vec<u8>,
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
 }
 

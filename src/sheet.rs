@@ -55,6 +55,7 @@ enum Labels {
 /// the title band, then one band per row of tiles (a sweep of hundreds of images holds one row at a time).
 pub struct SheetLayout {
     title: Option<String>,
+    /// Tiles a row: at least 1, and no more than there are tiles.
     pub columns: usize,
     rows: usize,
     tile_w: u32,

@@ -52,9 +52,9 @@ fn oren_nayar_with_sigma_0_is_lambert_and_overshoots_as_worked_by_hand() {
     for albedo in albedos(&Brdf::OrenNayar { kd, sigma: 0.0 }, &angles) {
         assert_within(&albedo, [1.0; 3], "oren-nayar sigma 0");
     }
-    // The README's note, worked by hand: as theta_o -> 90 degrees the albedo tends to kd (A + B / 2), with
-    // A = 1 - sigma^2 / (2 (sigma^2 + 0.33)) and B = 0.45 sigma^2 / (sigma^2 + 0.09): above kd for small
-    // sigma, at most 1.0152 kd near sigma = 0.2; and under kd for every view up to 60 degrees.
+    // The note of docs/tests.md (item 11), worked by hand: as theta_o -> 90 degrees the albedo tends to
+    // kd (A + B / 2), with A = 1 - sigma^2 / (2 (sigma^2 + 0.33)) and B = 0.45 sigma^2 / (sigma^2 + 0.09): above
+    // kd for small sigma, at most 1.0152 kd near sigma = 0.2; and under kd for every view up to 60 degrees.
     for sigma in [0.1f64, 0.2, 0.3, 0.6] {
         let s2 = sigma * sigma;
         let limit = 1.0 - 0.5 * s2 / (s2 + 0.33) + 0.5 * 0.45 * s2 / (s2 + 0.09);

@@ -396,7 +396,7 @@ fn assert_caught_by_the_reference((file, from): (&str, &str), to: &str, scene: &
     assert!(!acceptable(&c), "{file} with {to:?} instead of {from:?} went unnoticed: {c}");
 }
 
-/// The brushed tori of the README (assets/analytic/brushed-tori.toml), smaller: an OBJ with texture
+/// The brushed tori of docs/analytic-brdfs.md (assets/analytic/brushed-tori.toml), smaller: an OBJ with texture
 /// coordinates, whose tangents MikkTSpace makes along its ring, in Ward's materials narrow along X on the left
 /// torus and along Y on the right one, tilted so that the sphere's rule (+y x N) runs elsewhere.
 fn brushed_tori() -> vk_render::Scene {

@@ -302,6 +302,23 @@ fn jpeg_claiming_huge_dimensions() -> Vec<u8> {
 #[test]
 fn hostile_inputs_get_their_status_and_one_line_and_the_next_request_is_served() {
     let server = Server::local();
+    // A slow body: the request is answered 408 after the body timeout (30 s), on a thread while the rest goes
+    // on.
+    let address = server.loopback();
+    let slow_body = std::thread::spawn(move || {
+        let mut stream = TcpStream::connect(address).unwrap();
+        let (kind, _) = common::server::multipart(&[]);
+        let head = format!("POST /api/check HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Type: {kind}\r\nContent-Length: 100000\r\n\r\n");
+        stream.write_all(head.as_bytes()).unwrap();
+        stream.write_all(b"--vk-render-test-boundary-7f3a\r\n").unwrap();
+        let started = Instant::now();
+        stream.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+        (read_answer(&mut stream), started.elapsed())
+    });
+    // Slow headers: the connection is dropped after the header timeout, every request below served meanwhile.
+    let mut slow = TcpStream::connect(server.loopback()).unwrap();
+    slow.write_all(b"GET /api/scenes HTTP/1.1\r\nHost: x\r\n").unwrap();
+    let started = Instant::now();
     use image::ImageEncoder;
     let against = |image: &[u8], name: &str, scene: &[u8]| {
         server.post_form("/api/check", &[("image", Some(name), image), ("scene", None, scene)])
@@ -382,22 +399,7 @@ fn hostile_inputs_get_their_status_and_one_line_and_the_next_request_is_served()
         400,
         "`bogus`: no such field",
     );
-    // A slow body: the request is answered 408 after the body timeout (30 s), on a thread while the rest goes on.
-    let address = server.loopback();
-    let slow_body = std::thread::spawn(move || {
-        let mut stream = TcpStream::connect(address).unwrap();
-        let (kind, _) = common::server::multipart(&[]);
-        let head = format!("POST /api/check HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Type: {kind}\r\nContent-Length: 100000\r\n\r\n");
-        stream.write_all(head.as_bytes()).unwrap();
-        stream.write_all(b"--vk-render-test-boundary-7f3a\r\n").unwrap();
-        let started = Instant::now();
-        stream.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
-        (read_answer(&mut stream), started.elapsed())
-    });
-    // Slow headers: the connection is dropped after the header timeout, and others are served meanwhile.
-    let mut slow = TcpStream::connect(server.loopback()).unwrap();
-    slow.write_all(b"GET /api/scenes HTTP/1.1\r\nHost: x\r\n").unwrap();
-    let started = Instant::now();
+    // Slow headers and a slow body go on while the other inputs are sent (their timeouts are 10 and 30 s).
     let served = server.post_json("/api/render", &small_render());
     assert_eq!(served.status, 200);
     slow.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
@@ -677,10 +679,11 @@ fn faults_leave_every_accepted_request_answered() {
 }
 
 #[test]
-fn the_readmes_api_examples_run_as_written() {
-    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
-    let start = readme.find("\n### The HTTP API").expect("the README's API section");
-    let block = &readme[start..];
+fn the_guides_api_examples_run_as_written() {
+    // The curl example of docs/serve.md, "The HTTP API" (tests/docs.rs leaves it to this test).
+    let page = std::fs::read_to_string(common::root().join("docs/serve.md")).unwrap();
+    let start = page.find("\n## The HTTP API").expect("the guide's API section");
+    let block = &page[start..];
     let block = &block[block.find("```sh\n").expect("its example") + 6..];
     let script = &block[..block.find("```").unwrap()];
     assert!(script.starts_with("VK=http://127.0.0.1:8080\n"), "{script}");
@@ -691,7 +694,7 @@ fn the_readmes_api_examples_run_as_written() {
         .args(["-eu", "-c", &script])
         .current_dir(folder.path())
         .output()
-        .expect("sh runs the README's example (curl comes with make setup-test)");
+        .expect("sh runs the guide's example (curl comes with make setup-test)");
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "{stdout}{}", String::from_utf8_lossy(&output.stderr));
     assert!(

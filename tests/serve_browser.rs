@@ -2,7 +2,7 @@
 //! frame after a control moves is, pixel for pixel, `vk-render render` with that override; a student's image
 //! dropped on the check page gives the verdict and the mistake names of `vk-render check`; the browser's
 //! console stays clean. With VK_RENDER_SCREENSHOTS=DIR the pages' screenshots are written there (the
-//! README's pictures: scripts/serve-screenshots.sh).
+//! pictures of docs/serve.md).
 
 mod common;
 

@@ -40,7 +40,7 @@ def validating_default(monkeypatch):
 
 @pytest.fixture
 def in_root(monkeypatch):
-    """Runs the test from the repository's root (relative scene paths, as the README's examples)."""
+    """Runs the test from the repository's root (relative scene paths, as the guide's examples)."""
     monkeypatch.chdir(ROOT)
 
 

@@ -20,9 +20,11 @@ use crate::render::Renderer;
 pub struct FurnaceRow {
     /// The material's name for its own row; `white` for the grid's.
     pub material: String,
+    /// Its BRDF.
     pub brdf: Brdf,
     /// The largest albedo of any channel over the angles, and the angle (degrees) where it occurs.
     pub max_albedo: f64,
+    /// The angle theta_o of `max_albedo`, in degrees from the normal.
     pub theta_o: f64,
     /// A bound on the error of `max_albedo` (the integration's, see [`super::albedo`]).
     pub error_bound: f64,

@@ -29,6 +29,7 @@ pub const CLIP_MARGIN: i64 = 2;
 /// A model fitted to an image.
 #[derive(Clone, Debug)]
 pub struct ImageFit {
+    /// The fitted model, its residual on the fit's own measure and its parameters' errors.
     pub fit: Fit,
     /// The pixels fitted.
     pub pixels: usize,

@@ -30,14 +30,19 @@ const PHI_STEPS: usize = 180;
 /// front (0: looking along -z of the world, wi to the right).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Viewpoint {
+    /// Degrees above the surface (90: looking down the normal).
     pub elevation: f32,
+    /// Degrees round the normal from the plane of incidence's front.
     pub azimuth: f32,
 }
 
 /// The colours of the arrows and the lobe, for a legend.
 pub const LOBE_COLOUR: Vec3 = Vec3::new(0.25, 0.55, 0.95);
+/// The incident direction's arrow, linear RGB.
 pub const INCIDENT_COLOUR: Vec3 = Vec3::new(1.0, 0.8, 0.15);
+/// The normal's arrow, linear RGB.
 pub const NORMAL_COLOUR: Vec3 = Vec3::new(0.9, 0.9, 0.9);
+/// The mirror direction's arrow, linear RGB.
 pub const MIRROR_COLOUR: Vec3 = Vec3::new(0.95, 0.25, 0.2);
 
 /// The turn from the BRDF frame to the world of [`lobe_scene`], the normal up.

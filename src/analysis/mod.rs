@@ -35,7 +35,9 @@ pub fn tabulated(renderer: &mut Renderer, brdf: &Brdf, path: PathBuf) -> Result<
 /// A material of a scene, by its `[material.NAME]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NamedBrdf {
+    /// The `NAME` of its `[material.NAME]`.
     pub name: String,
+    /// Its BRDF, as the scene defines it.
     pub brdf: Brdf,
 }
 
@@ -68,8 +70,11 @@ pub fn select_materials(scene: &Scene, names: Option<&[String]>) -> Result<Vec<N
 /// Which channel of an RGB value a plot shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Channel {
+    /// The red channel.
     Red,
+    /// The green channel.
     Green,
+    /// The blue channel.
     Blue,
     /// Rec. 709 luminance: 0.2126 R + 0.7152 G + 0.0722 B.
     Luminance,

@@ -25,7 +25,9 @@ pub fn rusinkiewicz_directions(theta_h: f64, theta_d: f64, phi_d: f64) -> (Vec3,
 /// at its cell's centre over [0, 90] degrees; `None` where wi or wo is below the horizon (no reflection).
 #[derive(Clone, Debug)]
 pub struct Slice {
+    /// The grid's side: `cells` x `cells` values.
     pub cells: usize,
+    /// `cells * cells` values of f_r (RGB), row by row: value `theta_d * cells + theta_h` in cells.
     pub values: Vec<Option<Vec3>>,
 }
 

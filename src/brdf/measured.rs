@@ -24,7 +24,9 @@ use glam::Vec3;
 /// `BRDF_SAMPLING_RES_THETA_H`, `BRDF_SAMPLING_RES_THETA_D` and `BRDF_SAMPLING_RES_PHI_D / 2` of
 /// `BRDFRead.cpp`: the table's dimensions, in the file's header order.
 pub const THETA_H_BINS: usize = 90;
+/// `BRDF_SAMPLING_RES_THETA_D`: bins of the difference angle theta_d over 0 to 90 degrees.
 pub const THETA_D_BINS: usize = 90;
+/// `BRDF_SAMPLING_RES_PHI_D / 2`: bins of phi_d over 0 to 180 degrees (reciprocity gives the other half).
 pub const PHI_D_BINS: usize = 180;
 /// Entries per channel.
 pub const ENTRIES: usize = THETA_H_BINS * THETA_D_BINS * PHI_D_BINS;

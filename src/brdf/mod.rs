@@ -44,15 +44,48 @@ pub enum DiffuseModel {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Brdf {
     /// Perfectly diffuse: kd / pi.
-    Lambert { kd: Vec3 },
+    Lambert {
+        /// Diffuse reflectance, linear RGB in `[0, 1]`.
+        kd: Vec3,
+    },
     /// Rough diffuse (Oren and Nayar 1994); sigma is the facet slope in radians.
-    OrenNayar { kd: Vec3, sigma: f32 },
+    OrenNayar {
+        /// Diffuse reflectance, linear RGB in `[0, 1]`.
+        kd: Vec3,
+        /// The standard deviation of the facets' slope, in radians, at least 0 (0 is Lambert).
+        sigma: f32,
+    },
     /// The course's "plastic": Lambert + ks / cos(theta_i) * cos(alpha)^s (Phong 1975).
-    Phong { kd: Vec3, ks: Vec3, shininess: f32 },
+    Phong {
+        /// Diffuse reflectance, linear RGB in `[0, 1]`.
+        kd: Vec3,
+        /// Specular reflectance, linear RGB in `[0, 1]`.
+        ks: Vec3,
+        /// The lobe's exponent s, at least 0 (higher is a tighter highlight).
+        shininess: f32,
+    },
     /// Lambert + ks / cos(theta_i) * (n . h)^s (Blinn 1977).
-    BlinnPhong { kd: Vec3, ks: Vec3, shininess: f32 },
+    BlinnPhong {
+        /// Diffuse reflectance, linear RGB in `[0, 1]`.
+        kd: Vec3,
+        /// Specular reflectance, linear RGB in `[0, 1]`.
+        ks: Vec3,
+        /// The lobe's exponent s, at least 0 (higher is a tighter highlight).
+        shininess: f32,
+    },
     /// Microfacet model (Cook and Torrance 1982) with GGX D, Smith-Schlick G and Schlick F.
-    CookTorrance { kd: Vec3, f0: Vec3, roughness: f32, metalness: f32, diffuse: DiffuseModel },
+    CookTorrance {
+        /// The diffuse lobe's reflectance, linear RGB in `[0, 1]`.
+        kd: Vec3,
+        /// Fresnel reflectance at normal incidence, linear RGB in `[0, 1]`.
+        f0: Vec3,
+        /// In (0, 1]: GGX's alpha is its square; the Oren-Nayar diffuse lobe's sigma is it too.
+        roughness: f32,
+        /// In `[0, 1]` (default 0): the lobes are weighed (1 - metalness) diffuse + metalness specular.
+        metalness: f32,
+        /// The diffuse lobe's model (default Oren-Nayar).
+        diffuse: DiffuseModel,
+    },
     /// A measured table (a MERL file, Matusik et al. 2003), interpolated: see [`measured`].
     Measured(Measured),
     /// A user's model, BRDF Explorer's `.brdf` file, with a value for each of its parameters: see [`analytic`].

@@ -15,11 +15,13 @@ pub struct Mistake {
     pub name: &'static str,
     /// What went wrong, in one sentence.
     pub explanation: &'static str,
-    /// The formula as it should be, and as the image suggests it is.
+    /// The formula as it should be.
     pub should_be: &'static str,
+    /// The formula as the image suggests it is.
     pub looks_like: &'static str,
     /// A scene of the practical where it shows.
     pub shows_on: ShowsOn,
+    /// How to make it.
     pub variant: Variant,
 }
 
@@ -40,8 +42,11 @@ pub enum Variant {
 /// One edit of a shader file.
 #[derive(Clone, Copy, Debug)]
 pub struct ShaderEdit {
+    /// The file, relative to `shaders/`.
     pub file: &'static str,
+    /// Text found exactly once in the file.
     pub from: &'static str,
+    /// What it becomes.
     pub to: &'static str,
 }
 

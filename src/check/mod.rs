@@ -27,6 +27,7 @@ const EDGE_STEP: u8 = 48;
 /// 99th percentile at most [`MATCH_P99`] (JPEG at quality 75 stays well within both on the practical's
 /// images).
 pub const MATCH_RMS: f64 = 2.0;
+/// The bound on the 99th percentile of the differences, in 8-bit levels: see [`MATCH_RMS`].
 pub const MATCH_P99: u8 = 8;
 /// How much more a bias counts than the spread of the differences in [`Stats::distance`].
 const BIAS_WEIGHT: f64 = 4.0;
@@ -35,7 +36,9 @@ const PIXEL_TOLERANCE: u8 = MATCH_P99;
 
 /// One candidate explanation: the correct render (no mistake) or a mistake's.
 pub struct Candidate {
+    /// The mistake rendered, `None` for the correct render.
     pub mistake: Option<&'static Mistake>,
+    /// Its render, after the scene's output transform.
     pub image: RgbImage,
 }
 
@@ -187,18 +190,24 @@ fn blurred_differences(a: &[[f32; 3]], b: &[[f32; 3]], judged: &[bool]) -> Vec<O
 /// The statistics of judged differences.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stats {
+    /// Root mean square of the per-pixel differences, in 8-bit levels.
     pub rms: f64,
+    /// Mean of the per-pixel differences, in levels.
     pub mean: f64,
     /// The mean signed difference: JPEG's noise averages out of it, a level's bias does not (rounding
     /// instead of truncating is half a level brighter everywhere).
     pub bias: f64,
+    /// 99th percentile of the per-pixel differences, in levels.
     pub p99: f64,
-    /// The share of judged pixels over [`PIXEL_TOLERANCE`].
+    /// The share of judged pixels over the per-pixel tolerance ([`MATCH_P99`] levels).
     pub over: f64,
+    /// How many pixels were judged.
     pub judged: usize,
 }
 
 impl Stats {
+    /// The statistics of per-pixel differences as [`differences`] gives them (`None`, a pixel left out, is
+    /// skipped); all zero when no pixel is judged.
     pub fn of<'a>(differences: impl Iterator<Item = &'a Option<(f32, f32)>>) -> Self {
         let pairs: Vec<(f32, f32)> = differences.flatten().copied().collect();
         let mut values: Vec<f32> = pairs.iter().map(|p| p.0).collect();
@@ -219,7 +228,7 @@ impl Stats {
     }
 
     /// How far two images are, for ranking: the root mean square with the bias weighed in
-    /// ([`BIAS_WEIGHT`] times), so that a level's bias counts over JPEG's noise.
+    /// (`BIAS_WEIGHT` = 4 times), so that a level's bias counts over JPEG's noise.
     pub fn distance(&self) -> f64 {
         (self.rms * self.rms + (BIAS_WEIGHT * self.bias).powi(2)).sqrt()
     }
@@ -234,8 +243,8 @@ impl Stats {
 pub struct Diagnosis {
     /// The image against the correct render.
     pub against_exact: Stats,
-    /// Every candidate's root mean square difference from the image, best first (the correct render among
-    /// them).
+    /// Every candidate's distance from the image ([`Stats::distance`]: the root mean square with the bias
+    /// weighed in), best first (the correct render among them).
     pub ranking: Vec<(Option<&'static Mistake>, f64)>,
     /// The verdict.
     pub verdict: Verdict,
@@ -300,7 +309,9 @@ pub fn diagnose(mine: &RgbImage, candidates: &[Candidate]) -> Diagnosis {
 pub struct Region {
     /// The object's index in the scene, None for the background.
     pub object: Option<usize>,
+    /// "lit body", "unlit part", "highlight", "grazing band", or "open part" (the background's).
     pub part: &'static str,
+    /// The differences over its judged pixels.
     pub stats: Stats,
 }
 

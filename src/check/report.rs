@@ -19,6 +19,7 @@ use crate::scene::{Override, Scene};
 pub struct Checked {
     /// The exact render first, then each mistake's.
     pub candidates: Vec<Candidate>,
+    /// The verdict and the ranking of the candidates.
     pub diagnosis: Diagnosis,
     /// The differences per object and region (lit body, unlit part, highlight, grazing band, open part).
     pub regions: Vec<Region>,
@@ -32,6 +33,7 @@ pub struct Checked {
 
 /// An object whose pixels the scene's own model explains with other parameters.
 pub struct WrongParameters {
+    /// The object's index in the scene.
     pub object: usize,
     /// The fit of the object's model to the image.
     pub fitted: ImageFit,

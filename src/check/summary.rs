@@ -29,17 +29,24 @@ pub struct Summary {
 /// A mistake of the catalogue.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct NamedMistake {
+    /// Its name in the catalogue, e.g. `"lambert-without-pi"`.
     pub name: &'static str,
+    /// What went wrong, in one sentence.
     pub explanation: &'static str,
+    /// The formula as it should be.
     pub should_be: &'static str,
+    /// The formula as the image suggests it is.
     pub looks_like: &'static str,
 }
 
 /// Differences in 8-bit levels.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Statistics {
+    /// Root mean square of the per-pixel differences.
     pub rms: f64,
+    /// Mean of the per-pixel differences.
     pub mean: f64,
+    /// 99th percentile of the per-pixel differences.
     pub p99: f64,
     /// The share of the judged pixels over the match's per-pixel tolerance.
     pub over: f64,
@@ -48,8 +55,11 @@ pub struct Statistics {
 /// The statistics of one region of one object (`object` None: the background).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RegionStatistics {
+    /// The object's index in the scene, `None` for the background.
     pub object: Option<usize>,
+    /// "lit body", "unlit part", "highlight", "grazing band", or "open part" (the background).
     pub part: &'static str,
+    /// Its differences (flattened into the region's own object in JSON).
     #[serde(flatten)]
     pub statistics: Statistics,
 }
@@ -57,15 +67,21 @@ pub struct RegionStatistics {
 /// An object's parameters fitted to the image where they differ from the scene's.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct WrongParameter {
+    /// The object's index in the scene.
     pub object: usize,
+    /// The `[material.NAME]` it uses.
     pub material: String,
+    /// Its model's name in scene files, e.g. `"cook-torrance"`.
     pub model: &'static str,
     /// Each differing parameter's fitted components, and the scene's (in JSON, objects by name).
     #[serde(serialize_with = "by_name")]
     pub fitted: Vec<(String, Vec<f32>)>,
+    /// The scene's values of the same parameters, in the same order.
     #[serde(serialize_with = "by_name")]
     pub scene: Vec<(String, Vec<f32>)>,
+    /// The fitted model's root mean square difference from the image over the object's pixels, in 8-bit levels.
     pub residual_levels: f64,
+    /// The same of the scene's own material.
     pub scene_levels: f64,
 }
 

@@ -22,8 +22,11 @@ use crate::scene::{Environment, EnvironmentSource, Scene};
 /// An equirectangular radiance map, twice as wide as high, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvironmentMap {
+    /// Width in texels: 2 x `height`.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
+    /// `width * height` linear RGB radiances, row by row from the top: see [`EnvironmentMap::texel`].
     pub texels: Vec<Vec3>,
 }
 
@@ -79,6 +82,7 @@ impl EnvironmentMap {
         self.texels.iter().all(|t| *t == self.texels[0])
     }
 
+    /// The radiance of texel (x, y), x from the left and y from the top.
     pub fn texel(&self, x: u32, y: u32) -> Vec3 {
         self.texels[(y * self.width + x) as usize]
     }
@@ -129,7 +133,9 @@ pub fn direction_of(uv: Vec2) -> Vec3 {
 
 /// An environment placed in the world: its map, turned by its rotation and scaled by its intensity.
 pub struct PlacedEnvironment<'a> {
+    /// The map, unrotated and unscaled.
     pub map: &'a EnvironmentMap,
+    /// The scene's `[environment]`: its rotation and intensity.
     pub environment: &'a Environment,
 }
 

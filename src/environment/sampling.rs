@@ -24,13 +24,18 @@ pub fn luminance(rgb: glam::Vec3) -> f32 {
 /// per row, the conditional over its columns (width + 1 values from 0 to 1).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SamplingTable {
+    /// Cells across: the map's width, at most [`MAX_SAMPLING_WIDTH`].
     pub width: u32,
+    /// Cells down: half of `width`.
     pub height: u32,
+    /// The cumulative distribution over rows: `height + 1` values from 0 to 1.
     pub marginal: Vec<f32>,
+    /// Per row, the cumulative distribution over its columns: `width + 1` values from 0 to 1, row after row.
     pub conditional: Vec<f32>,
 }
 
 impl SamplingTable {
+    /// The table of `map`, each cell weighted by the luminance it shows and sin(theta) (see the module's text).
     pub fn new(map: &EnvironmentMap) -> Self {
         let width = map.width.min(MAX_SAMPLING_WIDTH);
         let height = width / 2;

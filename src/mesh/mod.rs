@@ -1,5 +1,5 @@
 //! Triangle meshes: the tessellated sphere, the infinite plane and OBJ files (through tobj), their tangents
-//! from texture coordinates ([`tangents`]).
+//! from texture coordinates (`tangents.rs`).
 
 mod tangents;
 
@@ -20,8 +20,11 @@ use crate::scene::{Scene, Shape, BUNNY_PATH};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vertex {
+    /// Object-space position, homogeneous: w = 1, or 0 for the plane's vertices at infinity.
     pub position: [f32; 4],
+    /// Object-space normal.
     pub normal: [f32; 3],
+    /// Object-space tangent from the texture coordinates (MikkTSpace), or zero where the mesh has none.
     pub tangent: [f32; 3],
 }
 
@@ -35,7 +38,9 @@ impl Vertex {
 /// An indexed triangle list.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// The vertices, each once.
     pub vertices: Vec<Vertex>,
+    /// Three indices into `vertices` a triangle (front faces counter-clockwise, as OBJ files wind them).
     pub indices: Vec<u32>,
 }
 
@@ -104,6 +109,7 @@ impl Mesh {
 /// A mesh placed in the world.
 #[derive(Clone, Debug)]
 pub struct PlacedMesh {
+    /// The mesh in object space, shared by every object that uses it.
     pub mesh: Arc<Mesh>,
     /// Object to world.
     pub model: Mat4,
@@ -119,6 +125,7 @@ pub struct PlacedMesh {
 /// only has to bound it: its facets decide which fragments look, not what is covered or shaded. With 32 x 16
 /// steps they stand at most 2% of the radius outside the sphere, and a sphere costs 960 triangles.
 pub const BOUNDING_SPHERE_SEGMENTS: u32 = 32;
+/// Latitude steps of the bounding sphere: see [`BOUNDING_SPHERE_SEGMENTS`].
 pub const BOUNDING_SPHERE_RINGS: u32 = 16;
 
 /// How far outside the unit sphere the nearest facet of [`bounding_sphere`] stands, over float rounding.
@@ -130,7 +137,7 @@ pub fn bounding_sphere() -> Arc<Mesh> {
     SPHERE.get_or_init(|| Arc::new(bounding_uv_sphere(BOUNDING_SPHERE_SEGMENTS, BOUNDING_SPHERE_RINGS))).clone()
 }
 
-/// [`uv_sphere`] scaled so that every facet lies outside the unit sphere, by [`BOUNDING_MARGIN`] at least.
+/// [`uv_sphere`] scaled so that every facet lies outside the unit sphere, by `BOUNDING_MARGIN` at least.
 pub fn bounding_uv_sphere(segments: u32, rings: u32) -> Mesh {
     let mut mesh = uv_sphere(segments, rings);
     let position = |i: u32| Vec3::from_slice(&mesh.vertices[i as usize].position[..3]);
@@ -221,7 +228,7 @@ pub fn infinite_plane(point: Vec3, normal: Vec3) -> Mesh {
 }
 
 /// Loads an OBJ file as one triangle mesh; smooth normals are computed when the file has none, tangents
-/// when it has texture coordinates ([`tangents::with_tangents`]).
+/// when it has texture coordinates (`tangents::with_tangents`).
 ///
 /// # Errors
 /// A message saying why the file could not be read or holds no usable triangles.

@@ -55,10 +55,12 @@ pub fn key_action(key: &Key) -> Option<Action> {
 /// One step of a test script, played one per frame: a key pressed, a drag, or the window resized.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ScriptStep {
+    /// A key pressed, as winit reports it.
     Key(Key),
     /// A drag of [`ORBIT_STEP_PIXELS`] to the right with the button held: the camera turns about the
     /// look-at point.
     Orbit,
+    /// The window resized to width x height pixels.
     Resize(u32, u32),
 }
 
@@ -118,6 +120,7 @@ fn parse_step(entry: &str) -> Result<ScriptStep, String> {
 /// A camera orbiting the scene's look-at point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Orbit {
+    /// From the look-at point to the camera, in world units.
     pub distance: f32,
     /// Radians about the up axis (+y), from +z.
     pub yaw: f32,
@@ -154,7 +157,9 @@ impl Orbit {
 
 /// The preview's state: the selected object, the orbit and the scene as the user changed it.
 pub struct Controls {
+    /// The object the keys change: its index in the scene's objects.
     pub selected: usize,
+    /// The camera's orbit about the scene's look-at point.
     pub orbit: Orbit,
     /// The scene file's shadows flags, restored when L is pressed again.
     scene_shadows: Option<Vec<bool>>,

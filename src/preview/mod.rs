@@ -38,8 +38,11 @@ use crate::{Renderer, RendererOptions};
 
 /// How to run the preview.
 pub struct PreviewOptions {
+    /// The scene file shown, reloaded when it changes.
     pub scene: PathBuf,
+    /// `--set` overrides applied on every load.
     pub overrides: Vec<Override>,
+    /// How to make the renderer (device, validation); the preview adds the window's extensions.
     pub renderer: RendererOptions,
     /// Stop after this many presented frames (for headless checks).
     pub frames: Option<u64>,

@@ -25,7 +25,9 @@ use merl::MerlFile;
 
 /// The reference image and, per pixel, the index of the object seen (`None` for the background).
 pub struct ReferenceImage {
+    /// The radiance (or term) the reference computes at each pixel's centre.
     pub image: HdrImage,
+    /// Per pixel, row by row from the top, the index in the scene's objects of the object seen.
     pub object_ids: Vec<Option<usize>>,
     /// Per pixel, the standard error of the environment light's estimate (zero without an environment).
     pub standard_errors: Vec<Vec3>,
@@ -177,8 +179,11 @@ struct Hit {
 /// camera and each point light's arrival.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfacePoint {
+    /// The object's index in the scene.
     pub object: usize,
+    /// The unit shading normal, facing the camera.
     pub n: Vec3,
+    /// The unit direction to the camera.
     pub wo: Vec3,
     /// Per light of the scene, in its order.
     pub lights: Vec<LightArrival>,

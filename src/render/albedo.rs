@@ -44,7 +44,9 @@ pub fn albedo_angles() -> Vec<f64> {
 /// One directional albedo: rho per channel and a bound on its error (the largest channel's).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Albedo {
+    /// The directional albedo per channel (RGB): f_r cos(theta_i) integrated over the hemisphere of wi.
     pub rho: [f64; 3],
+    /// A bound on the integration's error, the largest channel's.
     pub error_bound: f64,
 }
 

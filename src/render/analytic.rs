@@ -65,7 +65,9 @@ pub struct InvalidValues {
     pub count: u64,
     /// The first one's directions in the surface's frame (X, Y, N) and its value.
     pub wi: Vec3,
+    /// Its direction to the viewer, in the same frame.
     pub wo: Vec3,
+    /// The value it gave, RGB.
     pub value: Vec3,
 }
 

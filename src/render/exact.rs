@@ -22,6 +22,7 @@ pub const MAX_PASSES: u32 = 256;
 /// The passes so far of one image, summed per pixel (one image's lifetime).
 #[derive(Clone, Debug)]
 pub struct Passes {
+    /// Passes added so far.
     pub count: u32,
     sum: Vec<[f64; 3]>,
     sum_of_squares: Vec<[f64; 3]>,
@@ -30,7 +31,9 @@ pub struct Passes {
 /// How exact an exact render is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Accuracy {
+    /// The environment's samples a pixel, over every pass.
     pub samples: u32,
+    /// The passes made.
     pub passes: u32,
     /// The 99th percentile over pixels of the standard error of the mean (the largest channel's), in 8-bit
     /// levels after the output transform.
@@ -48,6 +51,7 @@ impl std::fmt::Display for Accuracy {
 }
 
 impl Passes {
+    /// No pass yet, for an image of `width` x `height` pixels.
     pub fn new(width: u32, height: u32) -> Self {
         let pixels = (width * height) as usize;
         Self { count: 0, sum: vec![[0.0; 3]; pixels], sum_of_squares: vec![[0.0; 3]; pixels] }

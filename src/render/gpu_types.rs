@@ -8,13 +8,15 @@ use super::measured::MeasuredTables;
 use crate::brdf::{Brdf, DiffuseModel};
 use crate::scene::{Camera, ImageSettings, Object, PointLight, Shape, View};
 
-/// `Frame` (std430).
+/// `Frame`, the forward pass's uniform block (std140; every member here is laid out as std430 would too).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GpuFrame {
+    /// World to clip, column-major: reverse-Z with an infinite far plane, y flipped (see [`GpuFrame::new`]).
     pub view_projection: [[f32; 4]; 4],
     /// The camera ray through framebuffer position (x, y) is `pixel_rays * (x, y, 1, 0)`: see [`PixelRays`].
     pub pixel_rays: [[f32; 4]; 4],
+    /// The eye in world space, w = 1.
     pub camera_position: [f32; 4],
     /// The image's background colour, alpha 1.
     pub background: [f32; 4],
@@ -22,6 +24,7 @@ pub struct GpuFrame {
     pub shadow_texel_angle: f32,
     /// The exact mode: the first sample of this pass (a pass takes `SAMPLES_PER_PASS`).
     pub environment_first_sample: u32,
+    /// Padding: keeps `environment` on a 16-byte boundary.
     pub pad: [u32; 2],
     /// The environment: cos and sin of its rotation, its intensity, and 0.
     pub environment: [f32; 4],
@@ -32,7 +35,9 @@ pub struct GpuFrame {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct GpuAlbedoEntry {
+    /// rgb: the diffuse lobe's directional albedo (linear); w unused.
     pub diffuse: [f32; 4],
+    /// rgb: the specular lobe's directional albedo (linear); w unused.
     pub specular: [f32; 4],
 }
 
@@ -40,7 +45,9 @@ pub struct GpuAlbedoEntry {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct GpuPointLight {
+    /// World-space position, w = 1.
     pub position: [f32; 4],
+    /// rgb = colour * power (incident radiance at distance d is radiance / d^2); w = 0.
     pub radiance: [f32; 4],
     /// x: the light's cube in the shadow cube array, or -1 for a light that casts no shadows; y: the faces
     /// of its cube that are drawn (bit i for face i).
@@ -51,14 +58,23 @@ pub struct GpuPointLight {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct GpuMaterial {
+    /// Diffuse reflectance, linear rgb in `[0, 1]`; w unused.
     pub kd: [f32; 4],
+    /// Phong's and Blinn-Phong's specular reflectance, linear rgb; w unused.
     pub ks: [f32; 4],
+    /// Cook-Torrance's Fresnel reflectance at normal incidence, linear rgb; w unused.
     pub f0: [f32; 4],
+    /// Which model: one of the `BRDF_*` ids.
     pub brdf: u32,
+    /// Phong's and Blinn-Phong's exponent.
     pub shininess: f32,
+    /// Oren-Nayar's sigma, the facets' slope in radians.
     pub sigma: f32,
+    /// Cook-Torrance's roughness in (0, 1] (GGX's alpha is its square).
     pub roughness: f32,
+    /// Cook-Torrance's metalness in `[0, 1]`.
     pub metalness: f32,
+    /// Under Cook-Torrance: the diffuse lobe, [`DIFFUSE_OREN_NAYAR`] or [`DIFFUSE_LAMBERT`].
     pub diffuse: u32,
     /// Under `BRDF_MEASURED`: the material's table in the measured tables' buffer.
     pub measured: u32,
@@ -70,22 +86,34 @@ pub struct GpuMaterial {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct GpuObject {
+    /// Object to world, column-major.
     pub model: [[f32; 4]; 4],
+    /// The inverse transpose of `model`, whose upper 3 x 3 transforms normals.
     pub normal_matrix: [[f32; 4]; 4],
+    /// The object's material.
     pub material: GpuMaterial,
+    /// x: two-sided (1 for planes and command-made triangles: the side the camera sees is shaded);
+    /// y: the tangent rule, [`TANGENT_DEFAULT`] or [`TANGENT_PLANE`]; z and w unused.
     pub flags: [u32; 4],
 }
 
-/// The BRDF ids of `shaders/common/brdf.glsl`.
+/// The BRDF ids of `shaders/common/brdf.glsl`: this one [`Brdf::Lambert`].
 pub const BRDF_LAMBERT: u32 = 0;
+/// [`Brdf::OrenNayar`].
 pub const BRDF_OREN_NAYAR: u32 = 1;
+/// [`Brdf::Phong`].
 pub const BRDF_PHONG: u32 = 2;
+/// [`Brdf::BlinnPhong`].
 pub const BRDF_BLINN_PHONG: u32 = 3;
+/// [`Brdf::CookTorrance`].
 pub const BRDF_COOK_TORRANCE: u32 = 4;
+/// [`Brdf::Measured`]: the material's table is in the measured tables' buffer.
 pub const BRDF_MEASURED: u32 = 5;
+/// [`Brdf::Analytic`]: a user's `.brdf` model, its values in the analytic values' buffer.
 pub const BRDF_ANALYTIC: u32 = 6;
-/// The diffuse ids under a Cook-Torrance lobe.
+/// The diffuse ids under a Cook-Torrance lobe: this one [`DiffuseModel::OrenNayar`] (the default).
 pub const DIFFUSE_OREN_NAYAR: u32 = 0;
+/// [`DiffuseModel::Lambert`].
 pub const DIFFUSE_LAMBERT: u32 = 1;
 
 /// The camera rays of an image, unnormalized, as a linear function of the framebuffer position (x right,
@@ -93,8 +121,9 @@ pub const DIFFUSE_LAMBERT: u32 = 1;
 /// any sample position.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelRays {
-    /// The ray's change per unit of x and of y.
+    /// The ray's change per unit of x (right along the image).
     pub per_x: Vec3,
+    /// The ray's change per unit of y (down the image).
     pub per_y: Vec3,
     /// The ray through the framebuffer's corner (0, 0).
     pub corner: Vec3,
@@ -179,12 +208,16 @@ pub fn brdf_id(brdf: &Brdf) -> u32 {
 /// materials' values, each material's at its place.
 #[derive(Clone, Copy)]
 pub struct MaterialData<'a> {
+    /// The measured tables, where [`GpuMaterial::measured`] points.
     pub measured: &'a MeasuredTables,
+    /// The analytic materials' values, where [`GpuMaterial::analytic`] points.
     pub analytic: &'a AnalyticValues,
 }
 
-/// The tangent rules of `shaders/common/scene.glsl` (an object's `flags.y`).
+/// The tangent rules of `shaders/common/scene.glsl` (an object's `flags.y`): this one the vertices' tangents
+/// where they have them, else `default_tangent`.
 pub const TANGENT_DEFAULT: u32 = 0;
+/// A plane's: the world's +x projected on it (`plane_tangent`).
 pub const TANGENT_PLANE: u32 = 1;
 
 /// The id of `brdf`'s diffuse lobe under a Cook-Torrance lobe (`DIFFUSE_*` of `shaders/brdf/cook_torrance.glsl`;

@@ -9,7 +9,9 @@ use super::Renderer;
 
 /// A PNG's pixels of a scene, and for a term view the scale its levels were written with.
 pub struct Picture {
+    /// The 8-bit RGB pixels, as the PNG holds them.
     pub pixels: image::RgbImage,
+    /// For a term view, the scale its levels were written with; `None` for a radiance.
     pub scale: Option<TermScale>,
 }
 

@@ -17,9 +17,13 @@ use crate::vulkan::{Buffer, BufferDesc, Descriptor, Device, Pipeline, PipelineLa
 /// One evaluation: f_r(wi, wo) of a material at a surface with normal n.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProbeCase {
+    /// The material evaluated.
     pub brdf: Brdf,
+    /// The surface's unit normal.
     pub n: Vec3,
+    /// The unit direction towards the light, away from the surface.
     pub wi: Vec3,
+    /// The unit direction towards the viewer, away from the surface.
     pub wo: Vec3,
 }
 
@@ -41,7 +45,9 @@ impl GpuDirections {
 /// One job of the albedo probe: a material seen from `wo`, in the frame n = +z, wo in the xz-plane.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AlbedoJob {
+    /// The material seen.
     pub brdf: Brdf,
+    /// The unit direction towards the viewer, in the xz-plane (z up the normal).
     pub wo: Vec3,
 }
 
@@ -49,8 +55,11 @@ pub struct AlbedoJob {
 /// (radians).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AlbedoCell {
+    /// Its job's index in the list of jobs.
     pub job: u32,
+    /// theta_i's bounds, radians from the normal.
     pub theta: (f32, f32),
+    /// phi_i's bounds, radians from +x.
     pub phi: (f32, f32),
 }
 
@@ -58,7 +67,9 @@ pub struct AlbedoCell {
 /// the 7-point Gauss rule embedded in it: their difference bounds the error of the coarser one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CellIntegral {
+    /// The 15-point Gauss-Kronrod estimate, RGB.
     pub kronrod: Vec3,
+    /// The embedded 7-point Gauss estimate, RGB.
     pub gauss: Vec3,
 }
 

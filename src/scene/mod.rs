@@ -35,9 +35,13 @@ pub const BUNNY_PATH: &str = "/usr/share/glmark2/models/bunny.obj";
 pub struct Scene {
     /// The file it was read from: error messages name it and mesh paths are relative to it.
     pub source: PathBuf,
+    /// `[image]`: the output's size, sampling and output transform.
     pub image: ImageSettings,
+    /// `[camera]`: where the image is seen from.
     pub camera: Camera,
+    /// Every `[[light]]`, in file order (at most [`MAX_LIGHTS`]).
     pub lights: Vec<PointLight>,
+    /// Every `[[object]]`, in file order, each with its material resolved.
     pub objects: Vec<Object>,
     /// Every `[material.NAME]` as the file defines it, by name, used or not (the analysis commands study
     /// them; each object holds its own copy, which the preview edits).
@@ -49,6 +53,7 @@ pub struct Scene {
 /// `[environment]`: radiance arriving from every direction, not occluded by the scene's objects.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
+    /// `map` (a file beside the scene) or `builtin`: exactly one of the two.
     pub source: EnvironmentSource,
     /// The radiance's scale.
     pub intensity: f32,
@@ -56,6 +61,7 @@ pub struct Environment {
     pub rotation: f32,
     /// Whether the background shows the environment (or `image.background`).
     pub visible: bool,
+    /// `mode`: how the light is integrated (default exact).
     pub mode: EnvironmentMode,
 }
 
@@ -64,6 +70,7 @@ pub struct Environment {
 pub enum EnvironmentSource {
     /// An equirectangular map (Radiance .hdr or OpenEXR), linear radiance, twice as wide as high.
     Map(PathBuf),
+    /// A map vk-render makes itself (`builtin = "white"`, `"sky"` or `"studio"`).
     Builtin(BuiltinEnvironment),
 }
 
@@ -79,6 +86,7 @@ pub enum BuiltinEnvironment {
 }
 
 impl BuiltinEnvironment {
+    /// Every built-in environment, in the order messages list them.
     pub const ALL: [BuiltinEnvironment; 3] =
         [BuiltinEnvironment::White, BuiltinEnvironment::Sky, BuiltinEnvironment::Studio];
 
@@ -120,14 +128,19 @@ impl EnvironmentMode {
 /// `[image]`: the output's size, sampling and output transform.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImageSettings {
+    /// Image width in pixels, 1 to [`MAX_IMAGE_SIDE`] (default 600).
     pub width: u32,
+    /// Image height in pixels, 1 to [`MAX_IMAGE_SIDE`] (default 400).
     pub height: u32,
     /// MSAA samples per pixel; the device decides which counts it supports.
     pub samples: u32,
     /// Linear radiance where no object is seen.
     pub background: Vec3,
+    /// The tone curve after exposure (default clamp).
     pub tonemap: Tonemap,
+    /// The factor linear radiance is multiplied by before the tone curve, at least 0 (default 1).
     pub exposure: f32,
+    /// How the tone-mapped value becomes an 8-bit level (default linear).
     pub encoding: Encoding,
     /// The side of each face of a light's shadow cube, in texels.
     pub shadow_map_size: u32,
@@ -238,8 +251,11 @@ pub enum Encoding {
 /// `[camera]`: a right-handed look-at camera (world +x on the image's left when looking along +z).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// The eye, in world space.
     pub position: Vec3,
+    /// The point seen at the image's centre, in world space.
     pub look_at: Vec3,
+    /// Which way is up: the image's vertical is its part across the view direction (any length, not parallel to it).
     pub up: Vec3,
     /// Vertical field of view, in degrees.
     pub fov_y: f32,
@@ -256,19 +272,24 @@ impl Camera {
 /// One `[[light]]` of type "point".
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLight {
+    /// World-space position.
     pub position: Vec3,
+    /// Linear RGB, each component at least 0 (default white).
     pub color: Vec3,
     /// Incident radiance at distance d is color * power / d^2.
     pub power: f32,
+    /// Whether it casts shadows (each such light has a shadow cube; default true).
     pub shadows: bool,
 }
 
 /// One `[[object]]` with its material resolved.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Object {
+    /// Its geometry, in world space.
     pub shape: Shape,
     /// The `[material.NAME]` it uses, kept for messages.
     pub material: String,
+    /// The material's BRDF: the object's own copy of `Scene::materials[material]`.
     pub brdf: Brdf,
     /// Whether it is drawn into the shadow cubes: every object of a scene file is; what a command adds to
     /// look at (the preview's lobe) is not.
@@ -278,20 +299,29 @@ pub struct Object {
 /// An object's geometry.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
+    /// A sphere, shaded from outside.
     Sphere {
+        /// World-space centre.
         center: Vec3,
+        /// Radius in world units, greater than 0.
         radius: f32,
     },
     /// An infinite plane through `point`; `normal` is unit length.
     Plane {
+        /// A point on the plane, in world space.
         point: Vec3,
+        /// The file's normal, normalized; the plane is shaded on whichever side the camera sees.
         normal: Vec3,
     },
     /// An OBJ file, placed by scale, then rotations about x, y, z (degrees), then translation.
     Mesh {
+        /// The OBJ file: relative to the scene's folder, or [`BUNNY_PATH`] for `"bunny"`.
         path: PathBuf,
+        /// Uniform scale, greater than 0 (default 1).
         scale: f32,
+        /// Rotations about x, y and z in degrees (default 0).
         rotate: Vec3,
+        /// Translation in world units (default 0).
         translate: Vec3,
     },
     /// Triangles a command makes rather than a file (the 3D lobe plot's lobe, arrows and disc).
@@ -302,8 +332,11 @@ pub enum Shape {
 /// seen from the side the normals face.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Triangles {
+    /// World-space vertex positions.
     pub positions: Vec<Vec3>,
+    /// Unit vertex normals, one per position.
     pub normals: Vec<Vec3>,
+    /// Three indices into `positions` a triangle.
     pub indices: Vec<u32>,
 }
 

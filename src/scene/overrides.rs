@@ -64,10 +64,15 @@ impl Override {
 /// the command line and the Python package apply as overrides before any `--set`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Shorthands<'a> {
+    /// `--width`: `image.width`, in pixels.
     pub width: Option<i64>,
+    /// `--height`: `image.height`, in pixels.
     pub height: Option<i64>,
+    /// `--samples`: `image.samples`, MSAA samples per pixel.
     pub samples: Option<i64>,
+    /// `--view`: `image.view`, a [`View`](super::View) name such as `"n-dot-l"`.
     pub view: Option<&'a str>,
+    /// `--environment-mode`: `environment.mode`, `"exact"` or `"fast"`.
     pub environment_mode: Option<&'a str>,
 }
 

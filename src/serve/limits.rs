@@ -10,7 +10,7 @@ use vk_render::{Override, Scene};
 
 use super::error::ApiError;
 
-/// The bounds of one server, stated in `vk-render serve --help` and the README.
+/// The bounds of one server, stated in `vk-render serve --help` and docs/serve.md.
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
     /// The longest side of an image the server renders or checks, in pixels.

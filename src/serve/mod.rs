@@ -2,8 +2,8 @@
 //! over the library, as the Python package is: routes, limits and pages. The device is opened and the
 //! pipelines built once, at start, by a few render workers ([`workers`]); the async threads only move bytes.
 //!
-//! What it holds a client to is stated in one place ([`limits::Limits`], [`Bounds`]) and in the README's
-//! section for a course's staff.
+//! What it holds a client to is stated in one place ([`limits::Limits`], [`Bounds`]) and in the guide's
+//! page for a course's staff, docs/serve.md.
 
 mod api;
 mod auth;

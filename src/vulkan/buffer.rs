@@ -12,14 +12,19 @@ use crate::error::{Error, Result};
 /// What a buffer is for and where its memory lives.
 #[derive(Clone, Copy, Debug)]
 pub struct BufferDesc {
+    /// Size in bytes.
     pub size: vk::DeviceSize,
+    /// What the buffer is bound as (vertex, index, uniform, storage, transfer).
     pub usage: vk::BufferUsageFlags,
+    /// Where its memory lives: device-only, or mapped for writing from or reading back to the CPU.
     pub location: MemoryLocation,
 }
 
 /// A buffer with its own allocation, freed in Drop.
 pub struct Buffer {
+    /// The Vulkan handle.
     pub raw: vk::Buffer,
+    /// What it was made as.
     pub desc: BufferDesc,
     allocation: Allocation,
     device: Arc<Device>,

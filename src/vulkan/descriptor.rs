@@ -9,6 +9,7 @@ use crate::error::Result;
 
 /// A descriptor pool, destroyed (with every set allocated from it) in Drop.
 pub struct DescriptorPool {
+    /// The Vulkan handle.
     pub raw: vk::DescriptorPool,
     device: Arc<Device>,
 }

@@ -16,12 +16,17 @@ use crate::error::{Error, Result};
 /// What `vk-render devices` shows of each physical device.
 #[derive(Clone, Debug)]
 pub struct DeviceInfo {
+    /// Its place in the loader's order: what `--device` takes as a number.
     pub index: usize,
+    /// The driver's name for the device, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
     pub name: String,
+    /// Discrete, integrated, virtual GPU, CPU or other: see [`DeviceInfo::kind_name`].
     pub kind: vk::PhysicalDeviceType,
     /// Vulkan version the driver offers.
     pub api_version: u32,
+    /// The driver's own version text (`driverInfo`), e.g. Mesa's version; empty if it gives none.
     pub driver: String,
+    /// Which driver it is (lavapipe is `MESA_LLVMPIPE`).
     pub driver_id: vk::DriverId,
 }
 
@@ -95,14 +100,21 @@ pub fn list_devices(instance: &Instance) -> Result<Vec<(vk::PhysicalDevice, Devi
 ///
 /// Every resource holds an `Arc<Device>`, so the device outlives them; it holds the instance the same way.
 pub struct Device {
+    /// The ash device: its function table and handle.
     pub raw: ash::Device,
+    /// The physical device it was opened on.
     pub physical: vk::PhysicalDevice,
+    /// What `vk-render devices` shows of it.
     pub info: DeviceInfo,
+    /// The physical device's limits (image sizes, sample counts, ...), checked before a render asks for more.
     pub limits: vk::PhysicalDeviceLimits,
+    /// The one queue every submission goes to: graphics and compute (and presenting, for the preview).
     pub queue: vk::Queue,
+    /// The queue's family index.
     pub queue_family: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: vk::CommandPool,
+    /// The instance it was made from, kept alive as long as the device.
     pub instance: Arc<Instance>,
     /// VK_EXT_depth_range_unrestricted is enabled: depth may be cleared outside [0, 1], which the forward
     /// pass uses to mark the samples no object covers (render/resolve.rs).

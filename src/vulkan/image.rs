@@ -12,15 +12,21 @@ use crate::error::Result;
 /// A 2D image's size, layers, format, sample count and use.
 #[derive(Clone, Copy, Debug)]
 pub struct ImageDesc {
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
     /// Array layers: 1 for a plain image, 6 per cube of a cube array.
     pub layers: u32,
     /// Cube-compatible, viewed as a cube array (layers a multiple of 6).
     pub cube: bool,
+    /// The texel format.
     pub format: vk::Format,
+    /// Samples per texel (`TYPE_1` for an image that is not multisampled).
     pub samples: vk::SampleCountFlags,
+    /// What the image is used for.
     pub usage: vk::ImageUsageFlags,
+    /// The aspect its views cover: colour or depth.
     pub aspect: vk::ImageAspectFlags,
 }
 
@@ -40,8 +46,11 @@ impl ImageDesc {
 
 /// A device-local 2D image with a view of all its layers (2D, 2D array or cube array), freed in Drop.
 pub struct Image {
+    /// The Vulkan handle.
     pub raw: vk::Image,
+    /// The view of all its layers.
     pub view: vk::ImageView,
+    /// What it was made as.
     pub desc: ImageDesc,
     allocation: Allocation,
     device: Arc<Device>,
@@ -159,6 +168,7 @@ pub fn whole_image_copy(width: u32, height: u32) -> vk::BufferImageCopy {
 /// An extra view of some layers of an image (e.g. one cube of a cube array, to render into), destroyed in
 /// Drop; its owner keeps the image alive longer.
 pub struct ImageView {
+    /// The Vulkan handle.
     pub raw: vk::ImageView,
     device: Arc<Device>,
 }

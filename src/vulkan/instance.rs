@@ -16,7 +16,9 @@ const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
 /// The Vulkan loader and instance; owns the debug messenger, which it destroys first.
 pub struct Instance {
+    /// The loaded Vulkan loader's entry points.
     pub entry: ash::Entry,
+    /// The ash instance: its function table and handle.
     pub raw: ash::Instance,
     debug: Option<DebugMessenger>,
     /// Set when a device of this instance was given up with work that never finished (see

@@ -9,28 +9,41 @@ use crate::error::Result;
 
 /// A pipeline layout and the descriptor set layouts it was made from, destroyed together in Drop.
 pub struct PipelineLayout {
+    /// The Vulkan handle.
     pub raw: vk::PipelineLayout,
+    /// One descriptor set layout per set, in set order.
     pub set_layouts: Vec<vk::DescriptorSetLayout>,
     device: Arc<Device>,
 }
 
 /// A pipeline, destroyed in Drop; it keeps its layout alive.
 pub struct Pipeline {
+    /// The Vulkan handle.
     pub raw: vk::Pipeline,
+    /// The layout it was made with.
     pub layout: Arc<PipelineLayout>,
     device: Arc<Device>,
 }
 
 /// What a graphics pipeline draws with and into (dynamic rendering, dynamic viewport and scissor).
 pub struct GraphicsPipelineDesc<'a> {
+    /// The vertex stage, entry point `main`.
     pub vertex: &'a ShaderModule,
+    /// The fragment stage, entry point `main`.
     pub fragment: &'a ShaderModule,
+    /// The vertex buffers' strides and rates.
     pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    /// The vertex shader's inputs: location, binding, format and offset.
     pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    /// One colour attachment per format, in location order, written without blending.
     pub color_formats: &'a [vk::Format],
+    /// The depth attachment's format.
     pub depth_format: vk::Format,
+    /// The depth test (the forward pass's reverse-Z is `GREATER_OR_EQUAL`); depth is always written.
     pub depth_compare: vk::CompareOp,
+    /// Samples per pixel of every attachment.
     pub samples: vk::SampleCountFlags,
+    /// The layout of its descriptor sets and push constants.
     pub layout: &'a Arc<PipelineLayout>,
     /// The fragment shader's specialization constants: entry i is the value of `constant_id = i`.
     pub fragment_constants: &'a [u32],

@@ -9,6 +9,7 @@ use crate::error::Result;
 
 /// A sampler, destroyed in Drop.
 pub struct Sampler {
+    /// The Vulkan handle.
     pub raw: vk::Sampler,
     device: Arc<Device>,
 }

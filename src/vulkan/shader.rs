@@ -226,6 +226,7 @@ fn spirv_words(bytes: &[u8]) -> Vec<u32> {
 
 /// A shader module, destroyed in Drop.
 pub struct ShaderModule {
+    /// The Vulkan handle.
     pub raw: vk::ShaderModule,
     device: Arc<Device>,
 }

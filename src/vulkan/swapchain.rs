@@ -10,7 +10,9 @@ use crate::error::{Error, Result};
 
 /// A window's Vulkan surface, destroyed in Drop (after every swapchain made on it, which hold it).
 pub struct Surface {
+    /// The Vulkan handle.
     pub raw: vk::SurfaceKHR,
+    /// The `VK_KHR_surface` functions.
     pub loader: khr::surface::Instance,
     /// Kept alive: the surface must be destroyed before its instance.
     _instance: Arc<Instance>,
@@ -49,9 +51,13 @@ impl Drop for Surface {
 
 /// A swapchain of 8-bit UNORM images that frames are copied into, with its semaphores; destroyed in Drop.
 pub struct Swapchain {
+    /// The Vulkan handle.
     pub raw: vk::SwapchainKHR,
+    /// Its images, in the driver's order: what an acquired index names.
     pub images: Vec<vk::Image>,
+    /// `B8G8R8A8_UNORM` or `R8G8B8A8_UNORM`: frames arrive already through the output transform.
     pub format: vk::Format,
+    /// The images' size in pixels.
     pub extent: vk::Extent2D,
     /// Whether its images can be copied out (for screenshots).
     pub readable: bool,
@@ -59,6 +65,7 @@ pub struct Swapchain {
     pub acquired: vk::Semaphore,
     /// One per image: signalled when its copy is done, waited on by its presentation.
     pub rendered: Vec<vk::Semaphore>,
+    /// The `VK_KHR_swapchain` functions.
     pub loader: khr::swapchain::Device,
     _surface: Arc<Surface>,
     device: Arc<Device>,

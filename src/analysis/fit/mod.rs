@@ -3,8 +3,9 @@
 //! measurement's entries by the measure of Ngan, Durand and Matusik 2005 ([`fit_measurement`]); every model's
 //! value from the probe pass (`brdf_eval`), so a course's model and a `.brdf` file's alike.
 //!
-//! What a fit varies of each model is its [`family`]; every fit goes through the one [`solver`]: variable
-//! projection over the colours a model is linear in, bounded Levenberg-Marquardt over the rest.
+//! What a fit varies of each model is its family (`family.rs`); every fit goes through the one solver
+//! (`solver.rs`): variable projection over the colours a model is linear in, bounded Levenberg-Marquardt over
+//! the rest.
 
 mod family;
 mod solver;
@@ -38,10 +39,12 @@ const PHI_STEPS: usize = 90;
 /// A fitted model: its parameters, and the residual and the target's size on the same measure.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fit {
+    /// The fitted model with its parameters.
     pub brdf: Brdf,
     /// The weighted root mean square of (fitted - target) over the samples, on the fit's measure, and
     /// the target's own root mean square.
     pub residual: f64,
+    /// The target's own root mean square on the same measure, to judge `residual` by.
     pub target_rms: f64,
     /// Each parameter the fit determined (a built-in model's every one; an analytic model's searched and
     /// solved ones, not those held) with its standard error per component: the Gauss-Newton estimate
@@ -54,8 +57,11 @@ pub struct Fit {
 /// A parameter's value and how well it is determined.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Determined {
+    /// The parameter's name: the scene file's key, or the name the `.brdf` file declares.
     pub name: String,
+    /// Its fitted components: one, or three for a colour.
     pub values: Vec<f32>,
+    /// Each component's standard error, `None` where the samples do not determine it.
     pub errors: Vec<Option<f64>>,
 }
 
@@ -63,8 +69,15 @@ pub struct Determined {
 /// `.brdf` file) searched from a material of it, some of its parameters held at that material's values.
 #[derive(Clone, Debug, PartialEq)]
 pub enum FitModel {
+    /// One of the course's models, by its name in [`FIT_MODELS`].
     BuiltIn(&'static str),
-    Analytic { start: Analytic, held: Vec<String> },
+    /// An analytic model, searched from a material of it.
+    Analytic {
+        /// The material the search starts from: its model and first values.
+        start: Analytic,
+        /// The parameters kept at `start`'s values (bools always are).
+        held: Vec<String>,
+    },
 }
 
 impl FitModel {
@@ -199,7 +212,7 @@ pub fn fit(
 /// channels measured), theta_i and theta_o below [`NGAN_MAX_THETA`], each entry weighed by the solid angle it
 /// stands for, each channel apart; the residual is their E = sqrt(sum w (f cos theta_i - f' cos theta_i)^2 /
 /// sum w), over the three channels. The entries are read at their centres, as measured (not interpolated),
-/// every [`MEASUREMENT_STRIDES`].
+/// every theta_h entry, every second theta_d and every fourth phi_d (`MEASUREMENT_STRIDES`).
 ///
 /// # Errors
 /// What the probe pass returns.

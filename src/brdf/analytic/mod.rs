@@ -1,7 +1,7 @@
 //! Analytic BRDFs written by users: BRDF Explorer's `.brdf` files (wdas/brdf), each a list of parameters and a
 //! GLSL function `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)` returning f_r without the cosine.
 //!
-//! A file is read ([`parse`]), its shader wrapped for vk-render's shaders ([`glsl`]: the file's names moved
+//! A file is read (`parse.rs`), its shader wrapped for vk-render's shaders (`glsl.rs`: the file's names moved
 //! out of vk-render's, each line at its own line) and compiled once on its own, so that a mistake in it is
 //! one line naming the file's line when the scene is loaded. On the GPU the model is one more case of
 //! `brdf_eval` (`shaders/common/brdf.glsl`), compiled at run time into the pipelines that draw it; a
@@ -28,7 +28,9 @@ pub use glsl::PREFIX;
 /// A parameter a file declares.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parameter {
+    /// Its name in the file: what its GLSL and a scene's `params` call it.
     pub name: String,
+    /// Its type, range and default.
     pub kind: ParameterKind,
     /// Its line in the file, from 1.
     pub line: usize,
@@ -38,11 +40,24 @@ pub struct Parameter {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ParameterKind {
     /// `float NAME MIN MAX DEFAULT`.
-    Float { min: f32, max: f32, default: f32 },
+    Float {
+        /// The least value a material may give it.
+        min: f32,
+        /// The greatest value a material may give it.
+        max: f32,
+        /// The value of a material that gives none, within `min..=max`.
+        default: f32,
+    },
     /// `bool NAME 0|1`.
-    Bool { default: bool },
+    Bool {
+        /// The value of a material that gives none.
+        default: bool,
+    },
     /// `color NAME R G B`: any three numbers (BRDF Explorer gives colours no range).
-    Color { default: Vec3 },
+    Color {
+        /// The value of a material that gives none, RGB as the file writes it.
+        default: Vec3,
+    },
 }
 
 impl ParameterKind {
@@ -76,8 +91,11 @@ impl ParameterKind {
 /// A parameter's value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ParameterValue {
+    /// A `float` parameter's, within its range.
     Float(f32),
+    /// A `bool` parameter's (1.0 or 0.0 in the parameter buffer).
     Bool(bool),
+    /// A `color` parameter's: three numbers, RGB.
     Color(Vec3),
 }
 
@@ -95,6 +113,7 @@ impl fmt::Display for ParameterValue {
 pub struct AnalyticModel {
     /// The file, as the scene named it (relative to the scene file's folder).
     pub path: PathBuf,
+    /// The parameters it declares, in the file's order.
     pub parameters: Vec<Parameter>,
     /// What loads but will not do what the file may mean (a `#define` dropped, an `isFunc` unused), one line
     /// each naming the file and the line.
