@@ -204,9 +204,9 @@ fn map_lit_from_plus_x(folder: &Path, radiance: f32) -> (std::path::PathBuf, f32
 fn a_map_lights_from_its_documented_direction_and_turns_with_its_rotation() {
     let folder = temp_dir();
     let (map, solid_angle) = map_lit_from_plus_x(folder.path(), 50.0);
-    let text = |rotation: f32| {
+    let text = |rotation: f32, size: u32| {
         format!(
-            "[image]\nwidth = 64\nheight = 64\nsamples = 1\nbackground = 0\n\
+            "[image]\nwidth = {size}\nheight = {size}\nsamples = 1\nbackground = 0\n\
              [camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 1]\nfov_y = 30\n\
              [environment]\nmap = {:?}\nrotation = {rotation}\nvisible = false\n\
              [material.white]\nbrdf = \"lambert\"\nkd = 1\n\
@@ -214,12 +214,12 @@ fn a_map_lights_from_its_documented_direction_and_turns_with_its_rotation() {
             map.display().to_string()
         )
     };
-    let brightest = |rotation: f32| {
-        let scene = scene_from_text("plus-x", &text(rotation));
+    let brightest = |rotation: f32, size: u32| {
+        let scene = scene_from_text("plus-x", &text(rotation, size));
         let image = render(&scene);
         let (mut best, mut at) = (0.0, (0, 0));
-        for y in 0..64 {
-            for x in 0..64 {
+        for y in 0..size {
+            for x in 0..size {
                 if image.at(x, y).x > best {
                     (best, at) = (image.at(x, y).x, (x, y));
                 }
@@ -228,7 +228,7 @@ fn a_map_lights_from_its_documented_direction_and_turns_with_its_rotation() {
         (at, best, scene, image)
     };
     // Unturned, the light comes from +x: the image's left (world +x is on the left looking along +z).
-    let ((x, y), _, scene, image) = brightest(0.0);
+    let ((x, y), _, scene, image) = brightest(0.0, 64);
     assert!(x < 16 && (24..40).contains(&y), "lit from +x, brightest at ({x}, {y})");
     // A pixel a little inside the lit side.
     let (x, y) = (8, 32);
@@ -263,12 +263,14 @@ fn a_map_lights_from_its_documented_direction_and_turns_with_its_rotation() {
     let band = silhouette_band(&traced.object_ids, 64, 64, 2);
     let c = compare(&image.to_rgb8(&scene.image), &traced.image.to_rgb8(&scene.image), &band);
     assert!(acceptable(&c), "lit from +x against the reference: {c}");
+    // Where the light comes from once turned needs fewer pixels (32 x 32: the exact mode's 256 passes of this
+    // map took 8 s an image at 64 x 64).
     // Turned 90 degrees about +y, +z's light goes to +x and +x's to -z: from behind the camera, the centre.
-    let ((x, y), ..) = brightest(90.0);
-    assert!((24..40).contains(&x) && (24..40).contains(&y), "turned 90 degrees, brightest at ({x}, {y})");
+    let ((x, y), ..) = brightest(90.0, 32);
+    assert!((12..20).contains(&x) && (12..20).contains(&y), "turned 90 degrees, brightest at ({x}, {y})");
     // Turned 180 degrees, from -x: the image's right.
-    let ((x, _), ..) = brightest(180.0);
-    assert!(x > 48, "turned 180 degrees, brightest at x = {x}");
+    let ((x, _), ..) = brightest(180.0, 32);
+    assert!(x > 24, "turned 180 degrees, brightest at x = {x}");
 }
 
 #[test]
