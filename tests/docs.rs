@@ -275,7 +275,7 @@ fn every_link_leads_somewhere_and_the_pages_link_both_ways() {
 fn words(line: &str) -> Vec<String> {
     let mut words = Vec::new();
     let mut word: Option<String> = None;
-    let mut chars = line.chars().peekable();
+    let mut chars = line.chars();
     while let Some(c) = chars.next() {
         match c {
             '\'' | '"' => {
