@@ -34,12 +34,13 @@ build: setup
 render: build
 	$(BIN) figures -o $(OUT)
 
-## test: every test (unit, shader compilation, GPU renders with validation, CLI errors); then the library's
-## API reference (cargo doc, every warning an error: a public item without docs or a broken link fails);
-## then builds the benchmarks and the build without the preview, so that neither can rot; then the Python
-## package's tests
+## test: every test (unit, shader compilation, GPU renders with validation, CLI errors), the test binaries
+## side by side, as many as there are cores (scripts/run-tests.sh; `cargo test --release` runs the same tests
+## one binary at a time); then the library's API reference (cargo doc, every warning an error: a public item
+## without docs or a broken link fails); then builds the benchmarks and the build without the preview, so
+## that neither can rot; then the Python package's tests
 test: setup-test
-	$(CARGO) test --release --locked
+	CARGO="$(CARGO)" scripts/run-tests.sh --release --locked
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --release --locked --no-deps --lib
 	$(CARGO) bench --locked --no-run
 	$(CARGO) build --release --locked --no-default-features
