@@ -50,17 +50,18 @@ done
 
 # Runs one binary (ENTRY: its source, a tab, its executable) into its log; prints its result line, or all of
 # its output.
+# Its time is the wall-clock time and the CPU time (user and system) of the binary and the children it
+# waited for (the vk-render processes its tests start), as bash's `time` reports them.
 run_one() {
-    local source=${1%%$'\t'*} exe=${1#*$'\t'} logs=$2 limit=$3 log status=0 started took
+    local source=${1%%$'\t'*} exe=${1#*$'\t'} logs=$2 limit=$3 log status=0 took TIMEFORMAT='%R %U %S'
     log="$logs/$(basename "$exe").log"
-    started=$(date +%s)
-    timeout --kill-after=10 "$limit" "$exe" >"$log" 2>&1 || status=$?
-    took=$(($(date +%s) - started))
+    { time timeout --kill-after=10 "$limit" "$exe" >"$log" 2>&1; } 2>"$log.time" || status=$?
+    took=$(awk '{ printf "%.0f s, %.0f s of CPU", $1, $2 + $3 }' "$log.time")
     if [ "$status" -eq 0 ]; then
-        echo "== $source: $(grep -E '^test result:' "$log" | tail -n 1) ($took s)"
+        echo "== $source: $(grep -E '^test result:' "$log" | tail -n 1) ($took)"
     else
         [ "$status" -ne 124 ] || echo "(killed after $limit s)" >>"$log"
-        echo "== $source FAILED (status $status, $took s):"
+        echo "== $source FAILED (status $status, $took):"
         cat "$log"
         echo "$source" >"$log.failed"
     fi
@@ -71,7 +72,8 @@ started=$(date +%s)
 printf '%s\0' "${ordered[@]}" | xargs -0 -n 1 -P "$jobs" bash -c 'run_one "$3" "$1" "$2"' run_one "$logs" "$limit" ||
     true
 mapfile -t failed < <(cat "$logs"/*.failed 2>/dev/null)
-echo "== ${#ordered[@]} test binaries, $jobs at once: $(($(date +%s) - started)) s"
+cpu=$(cat "$logs"/*.time | awk '{ s += $2 + $3 } END { printf "%.0f", s }')
+echo "== ${#ordered[@]} test binaries, $jobs at once: $(($(date +%s) - started)) s, $cpu s of CPU"
 if [ ${#failed[@]} -gt 0 ]; then
     echo "failed: ${failed[*]}" >&2
     exit 1

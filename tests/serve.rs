@@ -301,9 +301,11 @@ fn jpeg_claiming_huge_dimensions() -> Vec<u8> {
 
 #[test]
 fn hostile_inputs_get_their_status_and_one_line_and_the_next_request_is_served() {
-    let server = Server::local();
-    // A slow body: the request is answered 408 after the body timeout (30 s), on a thread while the rest goes
-    // on.
+    // Timeouts of a few seconds (the defaults are 10 and 30 s): each is shown to be the option's, not the
+    // default's, by when it fires.
+    let server = Server::start("127.0.0.1:0", &["--workers", "1", "--header-timeout", "5", "--body-timeout", "8"], &[]);
+    // A slow body: the request is answered 408 once its body has paused for the body timeout, on a thread
+    // while the rest goes on.
     let address = server.loopback();
     let slow_body = std::thread::spawn(move || {
         let mut stream = TcpStream::connect(address).unwrap();
@@ -316,9 +318,15 @@ fn hostile_inputs_get_their_status_and_one_line_and_the_next_request_is_served()
         (read_answer(&mut stream), started.elapsed())
     });
     // Slow headers: the connection is dropped after the header timeout, every request below served meanwhile.
-    let mut slow = TcpStream::connect(server.loopback()).unwrap();
-    slow.write_all(b"GET /api/scenes HTTP/1.1\r\nHost: x\r\n").unwrap();
-    let started = Instant::now();
+    let slow_headers = std::thread::spawn(move || {
+        let mut slow = TcpStream::connect(address).unwrap();
+        slow.write_all(b"GET /api/scenes HTTP/1.1\r\nHost: x\r\n").unwrap();
+        let started = Instant::now();
+        slow.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+        let mut rest = Vec::new();
+        let _ = std::io::Read::read_to_end(&mut slow, &mut rest);
+        started.elapsed()
+    });
     use image::ImageEncoder;
     let against = |image: &[u8], name: &str, scene: &[u8]| {
         server.post_form("/api/check", &[("image", Some(name), image), ("scene", None, scene)])
@@ -399,18 +407,16 @@ fn hostile_inputs_get_their_status_and_one_line_and_the_next_request_is_served()
         400,
         "`bogus`: no such field",
     );
-    // Slow headers and a slow body go on while the other inputs are sent (their timeouts are 10 and 30 s).
+    // Slow headers and a slow body went on while the other inputs were sent.
     let served = server.post_json("/api/render", &small_render());
     assert_eq!(served.status, 200);
-    slow.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
-    let mut rest = Vec::new();
-    let _ = std::io::Read::read_to_end(&mut slow, &mut rest);
-    let waited = started.elapsed();
-    assert!(waited >= Duration::from_secs(8) && waited < Duration::from_secs(20), "dropped after {waited:?}");
+    let waited = slow_headers.join().unwrap();
+    assert!(waited >= Duration::from_millis(4500) && waited < Duration::from_millis(9500), "dropped after {waited:?}");
     assert!(server.get("/api/status").status == 200);
     let (answer, waited) = slow_body.join().unwrap();
     assert_eq!(answer.status, 408, "{}", answer.text());
-    assert!(waited >= Duration::from_secs(25) && waited < Duration::from_secs(45), "answered after {waited:?}");
+    assert!(answer.text().contains("paused for 8 s"), "{}", answer.text());
+    assert!(waited >= Duration::from_millis(7500) && waited < Duration::from_secs(20), "answered after {waited:?}");
     // A WebSocket flood: closed as a policy violation.
     let (mut socket, _) = tungstenite::client::client(
         format!("ws://{}/api/explore", server.loopback()),

@@ -4,6 +4,7 @@
 //! `image::Limits`; nothing of it touches the disk.
 
 use std::sync::Arc;
+use std::time::Duration;
 
 use axum::extract::{Multipart, State};
 use axum::http::{header, StatusCode};
@@ -45,12 +46,12 @@ struct Sent {
     set: Vec<Override>,
 }
 
-async fn read_form(mut form: Multipart, limits: &Limits) -> Result<Sent, ApiError> {
+async fn read_form(mut form: Multipart, limits: &Limits, body_timeout: Duration) -> Result<Sent, ApiError> {
     let mut image = None;
     let mut scene = None;
     let mut set = Vec::new();
     let mut parts = 0;
-    while let Some(mut field) = form.next_field().await.map_err(multipart_error)? {
+    while let Some(mut field) = form.next_field().await.map_err(|e| multipart_error(e, body_timeout))? {
         parts += 1;
         if parts > MAX_PARTS {
             return Err(ApiError::bad_request(format!(
@@ -70,9 +71,15 @@ async fn read_form(mut form: Multipart, limits: &Limits) -> Result<Sent, ApiErro
             }
         };
         let mut bytes = Vec::new();
-        while let Some(chunk) = field.chunk().await.map_err(multipart_error)? {
+        while let Some(chunk) = field.chunk().await.map_err(|e| multipart_error(e, body_timeout))? {
             if bytes.len() + chunk.len() > most {
-                return Err(ApiError::too_large(format!("{name}: more than {most} bytes")));
+                // The image past the upload's limit is refused as the body's limit refuses it (whichever
+                // trips first depends on where the reads end).
+                return Err(if name == "image" {
+                    upload_too_large()
+                } else {
+                    ApiError::too_large(format!("{name}: more than {most} bytes"))
+                });
             }
             bytes.extend_from_slice(&chunk);
         }
@@ -95,20 +102,24 @@ async fn read_form(mut form: Multipart, limits: &Limits) -> Result<Sent, ApiErro
     Ok(Sent { image, scene, set })
 }
 
-fn multipart_error(error: axum::extract::multipart::MultipartError) -> ApiError {
-    // A body that stopped coming (the body timeout) or broke off is the client's doing, not the server's.
+fn upload_too_large() -> ApiError {
+    ApiError::too_large("the upload is larger than this server takes".into())
+}
+
+fn multipart_error(error: axum::extract::multipart::MultipartError, body_timeout: Duration) -> ApiError {
+    // A body that paused for the body timeout or broke off is the client's doing, not the server's.
     let mut source: Option<&(dyn std::error::Error + 'static)> = Some(&error);
     while let Some(cause) = source {
         if cause.is::<tower_http::timeout::TimeoutError>() {
             return ApiError::new(
                 StatusCode::REQUEST_TIMEOUT,
-                format!("the upload did not come within {} s", super::Bounds::BODY.as_secs()),
+                format!("the upload paused for {} s (the body timeout)", body_timeout.as_secs()),
             );
         }
         source = cause.source();
     }
     match error.status() {
-        StatusCode::PAYLOAD_TOO_LARGE => ApiError::too_large("the upload is larger than this server takes".into()),
+        StatusCode::PAYLOAD_TOO_LARGE => upload_too_large(),
         StatusCode::INTERNAL_SERVER_ERROR => {
             ApiError::bad_request(format!("the upload broke off: {}", error.body_text()))
         }
@@ -123,7 +134,7 @@ pub async fn check(
 ) -> Result<Response, ApiError> {
     let form =
         form.map_err(|e| ApiError::new(e.status(), format!("the request is not a multipart form: {}", e.body_text())))?;
-    let sent = read_form(form, &app.limits).await?;
+    let sent = read_form(form, &app.limits, app.body_timeout).await?;
     let format = Upload::sniff(&sent.image)?;
     let (width, height) = format.dimensions(&sent.image, &app.limits)?;
     let entry = match &sent.scene {

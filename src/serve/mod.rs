@@ -80,15 +80,22 @@ pub struct ServeArgs {
     /// How long a request may take in all, in seconds (503 after it).
     #[arg(long, value_name = "SECONDS", default_value_t = 120, value_parser = clap::value_parser!(u32).range(1..=3600))]
     deadline: u32,
+
+    /// How long a client has to send a request's headers, in seconds (the connection is closed after it).
+    #[arg(long, value_name = "SECONDS", default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=600))]
+    header_timeout: u32,
+
+    /// How long a request's body may pause, in seconds (408 after it; the whole request is bounded by
+    /// --deadline).
+    #[arg(long, value_name = "SECONDS", default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=3600))]
+    body_timeout: u32,
 }
 
-/// The fixed bounds of the HTTP layer.
+/// The fixed bounds of the HTTP layer (the client's time to send a request is `--header-timeout` and
+/// `--body-timeout`).
 pub struct Bounds;
 
 impl Bounds {
-    /// A client must send its request's headers within this time, and its body within [`Bounds::BODY`].
-    pub const HEADERS: Duration = Duration::from_secs(10);
-    pub const BODY: Duration = Duration::from_secs(30);
     /// Connections at once: past them a new connection is closed at once.
     pub const CONNECTIONS: usize = 1024;
     /// Requests at once (each connection's, and any waiting for a worker): past them 503.
@@ -109,6 +116,8 @@ pub struct App {
     worker_count: usize,
     reports: Reports,
     limits: Limits,
+    /// The time a client has to send a request's body (`--body-timeout`).
+    body_timeout: Duration,
     access: Option<Arc<Access>>,
     /// Becomes true on SIGTERM or Ctrl-C: the explore sockets close.
     stopping: watch::Receiver<bool>,
@@ -143,6 +152,7 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
             Bounds::REPORT_BYTES,
         ),
         limits,
+        body_timeout: Duration::from_secs(u64::from(args.body_timeout)),
         access,
         stopping,
     });
@@ -152,7 +162,8 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
         .enable_all()
         .build()
         .context("cannot start the server's threads")?;
-    let served = runtime.block_on(serve(app.clone(), args.listen, stop, deadline));
+    let header_timeout = Duration::from_secs(u64::from(args.header_timeout));
+    let served = runtime.block_on(serve(app.clone(), args.listen, stop, Timeouts { header: header_timeout, deadline }));
     // The workers finish what they hold and their renderers are destroyed on their threads.
     app.workers.stop();
     served
@@ -198,7 +209,7 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
                 .concurrency_limit(Bounds::REQUESTS)
                 .timeout(deadline + Duration::from_secs(5)),
         )
-        .layer(RequestBodyTimeoutLayer::new(Bounds::BODY))
+        .layer(RequestBodyTimeoutLayer::new(app.body_timeout))
         .layer(CompressionLayer::new())
         .layer(headers(header::CONTENT_SECURITY_POLICY, pages::CONTENT_SECURITY_POLICY))
         .layer(headers(header::X_CONTENT_TYPE_OPTIONS, "nosniff"))
@@ -224,13 +235,19 @@ fn overloaded(error: &BoxError) -> axum::response::Response {
     error::ApiError::busy(1).into_response()
 }
 
+/// The time a client has to send a request's headers, and a request's deadline in all.
+struct Timeouts {
+    header: Duration,
+    deadline: Duration,
+}
+
 /// Accepts connections until a signal, each served by hyper with a deadline on its headers; then stops
 /// accepting, lets the requests in flight be answered (within [`Bounds::GRACE`]) and returns.
 async fn serve(
     app: Arc<App>,
     address: SocketAddr,
     stop: watch::Sender<bool>,
-    deadline: Duration,
+    timeouts: Timeouts,
 ) -> anyhow::Result<()> {
     let listener =
         tokio::net::TcpListener::bind(address).await.with_context(|| format!("--listen {address}: cannot listen"))?;
@@ -241,7 +258,7 @@ async fn serve(
     }
     use std::io::Write;
     let _ = std::io::stdout().flush();
-    let router = router(app.clone(), deadline);
+    let router = router(app.clone(), timeouts.deadline);
     let mut open = tokio::task::JoinSet::new();
     let connections = Arc::new(Semaphore::new(Bounds::CONNECTIONS));
     let stopping = app.stopping.clone();
@@ -267,7 +284,7 @@ async fn serve(
         let service = TowerToHyperService::new(router.clone());
         let connection = hyper::server::conn::http1::Builder::new()
             .timer(TokioTimer::new())
-            .header_read_timeout(Bounds::HEADERS)
+            .header_read_timeout(timeouts.header)
             .serve_connection(TokioIo::new(stream), service)
             .with_upgrades();
         let mut stopping = stopping.clone();
