@@ -46,12 +46,12 @@ struct Sent {
     set: Vec<Override>,
 }
 
-async fn read_form(mut form: Multipart, limits: &Limits, body_timeout: Duration) -> Result<Sent, ApiError> {
+async fn read_form(mut form: Multipart, limits: &Limits) -> Result<Sent, ApiError> {
     let mut image = None;
     let mut scene = None;
     let mut set = Vec::new();
     let mut parts = 0;
-    while let Some(mut field) = form.next_field().await.map_err(|e| multipart_error(e, body_timeout))? {
+    while let Some(mut field) = form.next_field().await.map_err(|e| multipart_error(e, limits.body_timeout))? {
         parts += 1;
         if parts > MAX_PARTS {
             return Err(ApiError::bad_request(format!(
@@ -71,7 +71,7 @@ async fn read_form(mut form: Multipart, limits: &Limits, body_timeout: Duration)
             }
         };
         let mut bytes = Vec::new();
-        while let Some(chunk) = field.chunk().await.map_err(|e| multipart_error(e, body_timeout))? {
+        while let Some(chunk) = field.chunk().await.map_err(|e| multipart_error(e, limits.body_timeout))? {
             if bytes.len() + chunk.len() > most {
                 // The image past the upload's limit is refused as the body's limit refuses it (whichever
                 // trips first depends on where the reads end).
@@ -134,7 +134,7 @@ pub async fn check(
 ) -> Result<Response, ApiError> {
     let form =
         form.map_err(|e| ApiError::new(e.status(), format!("the request is not a multipart form: {}", e.body_text())))?;
-    let sent = read_form(form, &app.limits, app.body_timeout).await?;
+    let sent = read_form(form, &app.limits).await?;
     let format = Upload::sniff(&sent.image)?;
     let (width, height) = format.dimensions(&sent.image, &app.limits)?;
     let entry = match &sent.scene {

@@ -2,6 +2,8 @@
 //! may make (values only: nothing that names a file or a model to compile), the size of the images it
 //! renders and checks, and what an upload must be before it is decoded.
 
+use std::time::Duration;
+
 use serde_json::Value as Json;
 
 use vk_render::files::shortened;
@@ -23,11 +25,23 @@ pub struct Limits {
     pub max_shadow_map: u32,
     /// The largest upload, in bytes.
     pub max_upload: usize,
+    /// The time a client has to send a request's headers (the connection is closed after it).
+    pub header_timeout: Duration,
+    /// The longest pause in a request's body (408 after it).
+    pub body_timeout: Duration,
 }
 
 impl Default for Limits {
     fn default() -> Self {
-        Self { max_side: 2048, max_pixels: 2048 * 1536, max_samples: 4, max_shadow_map: 2048, max_upload: 16 << 20 }
+        Self {
+            max_side: 2048,
+            max_pixels: 2048 * 1536,
+            max_samples: 4,
+            max_shadow_map: 2048,
+            max_upload: 16 << 20,
+            header_timeout: Duration::from_secs(10),
+            body_timeout: Duration::from_secs(30),
+        }
     }
 }
 

@@ -91,8 +91,7 @@ pub struct ServeArgs {
     body_timeout: u32,
 }
 
-/// The fixed bounds of the HTTP layer (the client's time to send a request is `--header-timeout` and
-/// `--body-timeout`).
+/// The fixed bounds of the HTTP layer (the client's time to send a request is in [`Limits`]).
 pub struct Bounds;
 
 impl Bounds {
@@ -116,8 +115,6 @@ pub struct App {
     worker_count: usize,
     reports: Reports,
     limits: Limits,
-    /// The time a client has to send a request's body (`--body-timeout`).
-    body_timeout: Duration,
     access: Option<Arc<Access>>,
     /// Becomes true on SIGTERM or Ctrl-C: the explore sockets close.
     stopping: watch::Receiver<bool>,
@@ -135,7 +132,12 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
     }
     let catalogue = Catalogue::new(&args.scenes)?;
     let described = serde_json::to_string(&catalogue.describe())?;
-    let limits = Limits { max_upload: args.max_upload_mib as usize * (1 << 20), ..Limits::default() };
+    let limits = Limits {
+        max_upload: args.max_upload_mib as usize * (1 << 20),
+        header_timeout: Duration::from_secs(u64::from(args.header_timeout)),
+        body_timeout: Duration::from_secs(u64::from(args.body_timeout)),
+        ..Limits::default()
+    };
     let deadline = Duration::from_secs(u64::from(args.deadline));
     let scenes: Vec<&vk_render::Scene> = catalogue.entries().map(|e| &e.scene).collect();
     let workers = Workers::start(usize::from(args.workers), usize::from(args.queue), deadline, &options, &scenes)
@@ -152,7 +154,6 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
             Bounds::REPORT_BYTES,
         ),
         limits,
-        body_timeout: Duration::from_secs(u64::from(args.body_timeout)),
         access,
         stopping,
     });
@@ -162,8 +163,7 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
         .enable_all()
         .build()
         .context("cannot start the server's threads")?;
-    let header_timeout = Duration::from_secs(u64::from(args.header_timeout));
-    let served = runtime.block_on(serve(app.clone(), args.listen, stop, Timeouts { header: header_timeout, deadline }));
+    let served = runtime.block_on(serve(app.clone(), args.listen, stop, deadline));
     // The workers finish what they hold and their renderers are destroyed on their threads.
     app.workers.stop();
     served
@@ -209,7 +209,7 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
                 .concurrency_limit(Bounds::REQUESTS)
                 .timeout(deadline + Duration::from_secs(5)),
         )
-        .layer(RequestBodyTimeoutLayer::new(app.body_timeout))
+        .layer(RequestBodyTimeoutLayer::new(app.limits.body_timeout))
         .layer(CompressionLayer::new())
         .layer(headers(header::CONTENT_SECURITY_POLICY, pages::CONTENT_SECURITY_POLICY))
         .layer(headers(header::X_CONTENT_TYPE_OPTIONS, "nosniff"))
@@ -235,19 +235,13 @@ fn overloaded(error: &BoxError) -> axum::response::Response {
     error::ApiError::busy(1).into_response()
 }
 
-/// The time a client has to send a request's headers, and a request's deadline in all.
-struct Timeouts {
-    header: Duration,
-    deadline: Duration,
-}
-
 /// Accepts connections until a signal, each served by hyper with a deadline on its headers; then stops
 /// accepting, lets the requests in flight be answered (within [`Bounds::GRACE`]) and returns.
 async fn serve(
     app: Arc<App>,
     address: SocketAddr,
     stop: watch::Sender<bool>,
-    timeouts: Timeouts,
+    deadline: Duration,
 ) -> anyhow::Result<()> {
     let listener =
         tokio::net::TcpListener::bind(address).await.with_context(|| format!("--listen {address}: cannot listen"))?;
@@ -258,7 +252,7 @@ async fn serve(
     }
     use std::io::Write;
     let _ = std::io::stdout().flush();
-    let router = router(app.clone(), timeouts.deadline);
+    let router = router(app.clone(), deadline);
     let mut open = tokio::task::JoinSet::new();
     let connections = Arc::new(Semaphore::new(Bounds::CONNECTIONS));
     let stopping = app.stopping.clone();
@@ -284,7 +278,7 @@ async fn serve(
         let service = TowerToHyperService::new(router.clone());
         let connection = hyper::server::conn::http1::Builder::new()
             .timer(TokioTimer::new())
-            .header_read_timeout(timeouts.header)
+            .header_read_timeout(app.limits.header_timeout)
             .serve_connection(TokioIo::new(stream), service)
             .with_upgrades();
         let mut stopping = stopping.clone();
