@@ -34,17 +34,17 @@ build: setup
 render: build
 	$(BIN) figures -o $(OUT)
 
-## test: every test (unit, shader compilation, GPU renders with validation, CLI errors), the test binaries
-## side by side, as many as there are cores (scripts/run-tests.sh; `cargo test --release` runs the same tests
-## one binary at a time); then the library's API reference (cargo doc, every warning an error: a public item
-## without docs or a broken link fails); then builds the benchmarks and the build without the preview, so
-## that neither can rot; then the Python package's tests
+## test: the library's API reference (cargo doc, every warning an error: a public item without docs or a
+## broken link fails), the benchmarks and the build without the preview, built so that none can rot; then
+## every test (unit, shader compilation, GPU renders with validation, CLI errors) and the Python package's
+## tests against its wheel, the test binaries and pytest side by side, as many as there are cores
+## (scripts/run-tests.sh; `cargo test --release` runs the same Rust tests one binary at a time)
 test: setup-test
-	CARGO="$(CARGO)" scripts/run-tests.sh --release --locked
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --release --locked --no-deps --lib
 	$(CARGO) bench --locked --no-run
 	$(CARGO) build --release --locked --no-default-features
-	$(MAKE) --no-print-directory test-python
+	$(CARGO) build --release --locked
+	CARGO="$(CARGO)" VK_RENDER_TEST_PYTHON=1 VK_RENDER_WHEEL="$(VK_RENDER_WHEEL)" scripts/run-tests.sh --release --locked
 
 ## test-python: the Python package's tests: its wheel (make wheel, or the one VK_RENDER_WHEEL names) installed
 ## into a venv made once (scripts/python-env.sh: target/python-venv, with pytest, Dask and matplotlib pinned),

@@ -1,16 +1,20 @@
 #!/usr/bin/env bash
-# `make test`'s Rust tests: cargo builds every test binary, then they run side by side, as many at once as
-# the machine has cores, the longest first, each binary's output shown whole when it ends; then the doc tests.
+# `make test`'s tests: cargo builds every test binary, then they run side by side, as many at once as the
+# machine has cores, the longest first, each binary's output shown whole when it ends; then the doc tests.
+# With VK_RENDER_TEST_PYTHON=1 the Python package's tests are one more of them (scripts/test-python.sh), its
+# wheel built and installed before any test starts.
 #
 # Why not one `cargo test`: it runs the binaries one after another, and on 2 cores a third of the machine
 # stood idle while a binary waited (the server's timeouts, a child process, a binary with one long test
 # left): 984 s of CPU in 616 s of wall-clock time, cold, on 2 cores. Side by side the cores stay busy.
 # Each binary still runs its tests on its own threads as cargo runs them (same working directory, same
-# arguments), so `cargo test` gives the same results, one binary at a time.
+# arguments), so `cargo test` gives the same results, one binary at a time. pytest, which runs its tests one
+# after another, took 59 s after the binaries' 435 s; beside them it fills what they leave of the cores.
 #
 # Usage: scripts/run-tests.sh [CARGO-ARGS...]     (e.g. --release --locked)
 # Environment: CARGO (default cargo), VK_RENDER_TEST_JOBS (binaries at once; default: the cores),
-# VK_RENDER_TEST_TIMEOUT (seconds a binary may take; default 1200).
+# VK_RENDER_TEST_TIMEOUT (seconds a binary may take; default 1200), VK_RENDER_TEST_PYTHON (1: the Python
+# tests too; VK_RENDER_WHEEL as scripts/python-env.sh).
 set -euo pipefail
 
 project=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,9 +23,10 @@ cargo=${CARGO:-cargo}
 jobs=${VK_RENDER_TEST_JOBS:-$(nproc)}
 limit=${VK_RENDER_TEST_TIMEOUT:-1200}
 
-# The binaries that took longest (tests/environment.rs 131 s, analytic_fit.rs 89 s, serve.rs 68 s alone on
-# 2 cores): started first, so that no long one is left running alone at the end.
-longest_first=(environment analytic_fit serve docs preview cli analytic_cli measured check)
+# The tests that took longest (tests/environment.rs 147 s of CPU, analytic_fit.rs 112 s, pytest 59 s, cli.rs
+# 74 s, cold on 2 cores): started first, so that no long one is left running alone at the end.
+longest_first=(tests/environment.rs tests/analytic_fit.rs python/tests tests/cli.rs tests/preview.rs tests/docs.rs
+    tests/analytic_cli.rs tests/measured.rs tests/serve.rs tests/check.rs)
 
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
@@ -32,13 +37,18 @@ trap 'rm -rf "$logs"' EXIT
 mapfile -t built < <(grep '"profile":{[^}]*"test":true' "$logs/build.json" |
     sed -n 's|.*"src_path":"\([^"]*\)".*"executable":"\([^"]*\)".*|\1\t\2|p' | sed "s|^$project/||")
 [ ${#built[@]} -gt 0 ] || { echo "cargo built no test binary" >&2; exit 1; }
+if [ "${VK_RENDER_TEST_PYTHON:-0}" = 1 ]; then
+    VK_RENDER_PYTHON=$(scripts/python-env.sh)
+    export VK_RENDER_PYTHON
+    built+=("python/tests"$'\t'"$project/scripts/test-python.sh")
+fi
 
 # The longest first, then the rest in cargo's order.
 ordered=()
 declare -A placed
 for long in "${longest_first[@]}"; do
     for entry in "${built[@]}"; do
-        if [ "${entry%%$'\t'*}" = "tests/$long.rs" ]; then
+        if [ "${entry%%$'\t'*}" = "$long" ]; then
             ordered+=("$entry")
             placed[$entry]=1
         fi
@@ -48,8 +58,8 @@ for entry in "${built[@]}"; do
     [ -n "${placed[$entry]:-}" ] || ordered+=("$entry")
 done
 
-# Runs one binary (ENTRY: its source, a tab, its executable) into its log; prints its result line, or all of
-# its output.
+# Runs one binary (ENTRY: its source, a tab, its executable) into its log; prints its result line (cargo's
+# harness's, or pytest's last), or all of its output.
 # Its time is the wall-clock time and the CPU time (user and system) of the binary and the children it
 # waited for (the vk-render processes its tests start), as bash's `time` reports them.
 run_one() {
@@ -58,7 +68,7 @@ run_one() {
     { time timeout --kill-after=10 "$limit" "$exe" >"$log" 2>&1; } 2>"$log.time" || status=$?
     took=$(awk '{ printf "%.0f s, %.0f s of CPU", $1, $2 + $3 }' "$log.time")
     if [ "$status" -eq 0 ]; then
-        echo "== $source: $(grep -E '^test result:' "$log" | tail -n 1) ($took)"
+        echo "== $source: $(grep -E '^test result:|^[0-9]+ passed' "$log" | tail -n 1) ($took)"
     else
         [ "$status" -ne 124 ] || echo "(killed after $limit s)" >>"$log"
         echo "== $source FAILED (status $status, $took):"
@@ -73,7 +83,7 @@ printf '%s\0' "${ordered[@]}" | xargs -0 -n 1 -P "$jobs" bash -c 'run_one "$3" "
     true
 mapfile -t failed < <(cat "$logs"/*.failed 2>/dev/null)
 cpu=$(cat "$logs"/*.time | awk '{ s += $2 + $3 } END { printf "%.0f", s }')
-echo "== ${#ordered[@]} test binaries, $jobs at once: $(($(date +%s) - started)) s, $cpu s of CPU"
+echo "== ${#ordered[@]} test runs, $jobs at once: $(($(date +%s) - started)) s, $cpu s of CPU"
 if [ ${#failed[@]} -gt 0 ]; then
     echo "failed: ${failed[*]}" >&2
     exit 1

@@ -4,11 +4,12 @@
 # compare with the command line's binary already built (python/tests/conftest.py).
 #
 # Usage: scripts/test-python.sh [PYTEST-ARGUMENTS...]
-# Environment: as scripts/python-env.sh (VK_RENDER_WHEEL: the wheel to test instead of building one).
+# Environment: as scripts/python-env.sh (VK_RENDER_WHEEL: the wheel to test instead of building one);
+# VK_RENDER_PYTHON: the python of a venv python-env.sh has already made (scripts/run-tests.sh sets it).
 set -euo pipefail
 
 project=$(cd "$(dirname "$0")/.." && pwd)
-python=$("$project/scripts/python-env.sh")
+python=${VK_RENDER_PYTHON:-$("$project/scripts/python-env.sh")}
 
 # PATH without any folder that holds cargo.
 IFS=: read -ra folders <<<"$PATH"

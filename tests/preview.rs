@@ -171,21 +171,21 @@ fn b_shows_the_selected_objects_lobe() {
     assert_ne!(shot, offscreen("fig1-lambert.toml", &size), "B changed nothing");
 }
 
-/// The sky's spheres previewed at 96 x 48 for `frames` still frames: the last frame presented.
+/// The sky's spheres previewed at 48 x 24 for `frames` still frames: the last frame presented.
 fn environment_screenshot(frames: u32) -> image::RgbImage {
     let folder = temp_dir();
     let shot = folder.path().join("shot.png");
     let scene = root().join("assets/environment/spheres-sky.toml");
     let frames = frames.to_string();
     let args = [scene.to_str().unwrap(), "--frames", &frames, "--screenshot", shot.to_str().unwrap()];
-    let output = preview(&[&args[..], &["--width", "96", "--height", "48"]].concat());
+    let output = preview(&[&args[..], &["--width", "48", "--height", "24"]].concat());
     succeeded(&output);
     image::open(&shot).unwrap().into_rgb8()
 }
 
 #[test]
 fn with_an_environment_a_moving_frame_is_fast_and_a_still_one_refines_to_the_exact_render() {
-    let overrides = ["image.width=96", "image.height=48"];
+    let overrides = ["image.width=48", "image.height=24"];
     let exact = {
         let scene = Scene::load(&root().join("assets/environment/spheres-sky.toml"), &parsed(&overrides)).unwrap();
         render(&scene).to_rgb8(&scene.image)
@@ -196,6 +196,8 @@ fn with_an_environment_a_moving_frame_is_fast_and_a_still_one_refines_to_the_exa
         let scene = Scene::load(&root().join("assets/environment/spheres-sky.toml"), &overrides).unwrap();
         render(&scene).to_rgb8(&scene.image)
     };
+    // The two modes differ at this size too, so each equality below says which mode the frame is.
+    assert_ne!(fast, exact, "the fast and the exact render are the same image: the test cannot tell them apart");
     assert_eq!(environment_screenshot(1), fast, "the first frame is the fast mode's render");
     // One fast frame, then at most 256 exact passes, one a frame: the still image is the exact render.
     assert_eq!(environment_screenshot(300), exact, "the refined frame is the exact render");
