@@ -16,6 +16,14 @@ FIG1 = SCENES / "fig1-lambert.toml"
 BIN = Path(os.environ.get("VK_RENDER_BIN") or Path(os.environ.get("CARGO_TARGET_DIR") or ROOT / "target") / "release" / "vk-render")
 
 
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers",
+        "latency: bounds how long something takes; make test runs these alone, after the other tests "
+        "(scripts/run-tests.sh), since tests beside them on 2 cores slow any call past such a bound",
+    )
+
+
 def cli(*args, check=True, **kwargs):
     """Runs `vk-render --validate ARGS` from the repository's root; its CompletedProcess."""
     done = subprocess.run(

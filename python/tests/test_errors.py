@@ -77,9 +77,7 @@ CHILD = textwrap.dedent(
     print("started", flush=True)
     try:
         if call == "render":
-            # 256 passes of 0.1 s (0.5 s at 400 x 300: beside the other tests, as make test runs them, a
-            # pass there took over a second).
-            vk_render.render("assets/scenes/fig1-lambert.toml", width=160, height=120, set=sky)
+            vk_render.render("assets/scenes/fig1-lambert.toml", width=400, height=300, set=sky)
         elif call == "reference":
             vk_render.reference("assets/scenes/fig1-lambert.toml", width=800, height=600, set=sky)
         else:
@@ -94,6 +92,7 @@ CHILD = textwrap.dedent(
 )
 
 
+@pytest.mark.latency
 @pytest.mark.parametrize("call", ["busy", "render", "reference"])
 def test_ctrl_c_raises_keyboard_interrupt_within_a_second(call):
     child = subprocess.Popen(
