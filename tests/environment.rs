@@ -13,6 +13,7 @@ use glam::Vec3;
 use vk_render::analysis::albedo::directional_albedos;
 use vk_render::compare::{compare, silhouette_band, Comparison};
 use vk_render::environment::{direction_of, EnvironmentMap};
+use vk_render::render::exact::Passes;
 use vk_render::render::gpu_types::PixelRays;
 use vk_render::{reference, Renderer, Scene};
 
@@ -294,6 +295,43 @@ fn a_wrong_density_in_the_sampler_fails_the_reference() {
     let c: Comparison = compare(&gpu, &traced.image.to_rgb8(&scene.image), &band);
     eprintln!("without sin(theta): {c}");
     assert!(!acceptable(&c), "the mutant passed: {c}");
+}
+
+#[test]
+fn the_sampling_tables_guides_and_probabilities_change_no_sample() {
+    // The guides only shorten the searches and the probabilities are the products the density computed from
+    // the cumulative tables (src/environment/sampling.rs): with the whole table searched and the products
+    // computed in the shader, every sample and so every pixel is the same, to the bit. The studio's small
+    // bright lights make most of its cumulative values close together, where a wrong cutpoint shows.
+    let whole = vk_render::vulkan::ShaderSources::default()
+        .with_replaced(
+            "common/environment.glsl",
+            "uint low = environment_table[guide_start + bucket];\n    \
+             uint high = min(environment_table[guide_start + bucket + 1u] + 1u, count);",
+            "uint low = 0u, high = count;",
+        )
+        .and_then(|s| {
+            s.with_replaced(
+                "common/environment.glsl",
+                "float probability = table_float(probabilities_start(size) + j * size.x + i);",
+                "uint row = conditional_start(size) + j * (size.x + 1u) + i;\n    \
+                 float probability = (table_float(j + 1u) - table_float(j)) * (table_float(row + 1u) - table_float(row));",
+            )
+        })
+        .expect("the edits fit");
+    let mut whole = Renderer::new(vk_render::RendererOptions { validate: true, shaders: whole, ..Default::default() })
+        .expect("a renderer");
+    // Eight passes (each its own shift of the sequences) of the whole image say as much as all 256 would.
+    let scene = lit_five_brdfs("studio", "exact");
+    let passes = |renderer: &mut Renderer| {
+        let mut passes = Passes::new(scene.image.width, scene.image.height);
+        for _ in 0..8 {
+            renderer.refine(&scene, &mut passes).expect("a pass with no validation message");
+        }
+        passes.mean_bytes()
+    };
+    let guided = passes(&mut renderer());
+    assert!(guided == passes(&mut whole), "the guided search drew other samples");
 }
 
 #[test]

@@ -25,15 +25,17 @@ const float PREFILTERED_LOBES = 11.0;
 
 // The sampling table (src/environment/sampling.rs, src/render/environment.rs): its width and height ((0, 0)
 // for a constant environment, which is not importance-sampled) and the samples a pass of the exact mode takes,
-// then the marginal over rows (height + 1 values), then each row's conditional over its columns (width + 1
-// values each). The sizes and the count bound loops: they are read here rather than from the frame's uniform
-// buffer (see common/scene.glsl), and are not constants either: with the count known when the shader is
-// compiled, its loops unrolled into code that ran 16% slower on lavapipe.
+// then, in 32-bit words: the marginal over rows (height + 1 floats), each row's conditional over its columns
+// (width + 1 floats each), each cell's probability (width x height floats), the marginal's guide
+// (guide_buckets(height) + 1 intervals) and each row's (guide_buckets(width) + 1 each). The sizes and the count
+// bound loops: they are read here rather than from the frame's uniform buffer (see common/scene.glsl), and are
+// not constants either: with the count known when the shader is compiled, its loops unrolled into code that
+// ran 16% slower on lavapipe.
 layout(set = 0, binding = 7, std430) readonly buffer EnvironmentSampling {
     uvec2 sampling_size;
     uint samples_per_pass;
     uint sampling_pad;
-    float environment_cdf[];
+    uint environment_table[];
 };
 
 struct AlbedoEntry {
@@ -57,12 +59,41 @@ vec3 view_brdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
     return brdf_eval(m, n, t, wi, wo);
 }
 
-// The last i in [0, count) with cdf[offset + i] <= u.
-uint cdf_interval(uint offset, uint count, float u) {
-    uint low = 0u, high = count;
+float table_float(uint k) {
+    return uintBitsToFloat(environment_table[k]);
+}
+
+// sampling.rs's `buckets`: the guide of a table of n intervals has the power of two at least n.
+uint guide_buckets(uint n) {
+    return n <= 1u ? 1u : 1u << uint(findMSB(n - 1u) + 1);
+}
+
+// Where each part of the table starts.
+uint conditional_start(uvec2 size) {
+    return size.y + 1u;
+}
+uint probabilities_start(uvec2 size) {
+    return conditional_start(size) + size.y * (size.x + 1u);
+}
+uint marginal_guide_start(uvec2 size) {
+    return probabilities_start(size) + size.x * size.y;
+}
+uint conditional_guide_start(uvec2 size) {
+    return marginal_guide_start(size) + guide_buckets(size.y) + 1u;
+}
+
+// The last i in [0, count) with cdf[i] <= u, cdf the count + 1 floats from word cdf_start: a binary search
+// between the cutpoints of u's bucket of the table's guide (guide_start), which hold that interval
+// (u times a power of two is exact: the bucket is the one the cutpoints were computed for). The same interval
+// as a search of the whole table (src/environment/sampling.rs tests it), in a few reads instead of log2(count).
+uint cdf_interval(uint cdf_start, uint count, uint guide_start, float u) {
+    uint buckets = guide_buckets(count);
+    uint bucket = min(uint(u * float(buckets)), buckets - 1u);
+    uint low = environment_table[guide_start + bucket];
+    uint high = min(environment_table[guide_start + bucket + 1u] + 1u, count);
     while (low + 1u < high) {
         uint middle = (low + high) / 2u;
-        if (environment_cdf[offset + middle] <= u) {
+        if (table_float(cdf_start + middle) <= u) {
             low = middle;
         } else {
             high = middle;
@@ -71,28 +102,21 @@ uint cdf_interval(uint offset, uint count, float u) {
     return low;
 }
 
-// The probability of the sampling table's cell (i, j).
-float cell_probability(uint i, uint j) {
-    uvec2 size = sampling_size;
-    uint row = size.y + 1u + j * (size.x + 1u);
-    return (environment_cdf[j + 1u] - environment_cdf[j]) * (environment_cdf[row + i + 1u] - environment_cdf[row + i]);
-}
-
 // A world direction drawn in proportion to the table: a row, a column in it, then uniformly in (u, v).
 vec3 environment_sample(vec2 u) {
     uvec2 size = sampling_size;
-    uint j = cdf_interval(0u, size.y, u.x);
-    float row_low = environment_cdf[j], row_high = environment_cdf[j + 1u];
+    uint j = cdf_interval(0u, size.y, marginal_guide_start(size), u.x);
+    float row_low = table_float(j), row_high = table_float(j + 1u);
     float v = (float(j) + clamp((u.x - row_low) / max(row_high - row_low, 1e-30), 0.0, 1.0)) / float(size.y);
-    uint row = size.y + 1u + j * (size.x + 1u);
-    uint i = cdf_interval(row, size.x, u.y);
-    float column_low = environment_cdf[row + i], column_high = environment_cdf[row + i + 1u];
+    uint row = conditional_start(size) + j * (size.x + 1u);
+    uint i = cdf_interval(row, size.x, conditional_guide_start(size) + j * (guide_buckets(size.x) + 1u), u.y);
+    float column_low = table_float(row + i), column_high = table_float(row + i + 1u);
     float s = (float(i) + clamp((u.y - column_low) / max(column_high - column_low, 1e-30), 0.0, 1.0)) / float(size.x);
     return to_world(map_direction(vec2(s, v)));
 }
 
 // The density of environment_sample drawing world direction d: uniform over its cell in (u, v), whose solid
-// angle is 2 pi^2 sin(theta) du dv.
+// angle is 2 pi^2 sin(theta) du dv; the cell's probability is the table's.
 float environment_pdf(vec3 d) {
     uvec2 size = sampling_size;
     vec3 m = to_map(d);
@@ -100,7 +124,8 @@ float environment_pdf(vec3 d) {
     uint i = min(uint(uv.x * float(size.x)), size.x - 1u);
     uint j = min(uint(uv.y * float(size.y)), size.y - 1u);
     float sin_theta = max(sqrt(max(1.0 - m.y * m.y, 0.0)), 1e-6);
-    return cell_probability(i, j) * float(size.x * size.y) / (2.0 * PI * PI * sin_theta);
+    float probability = table_float(probabilities_start(size) + j * size.x + i);
+    return probability * float(size.x * size.y) / (2.0 * PI * PI * sin_theta);
 }
 
 // One pass of the exact mode at the fragment's pixel: the mean of SAMPLES_PER_PASS samples, each strategy

@@ -27,8 +27,8 @@ pub struct EnvironmentTextures {
     pub map: Image,
     /// The sampling table (`EnvironmentSampling` of `shaders/common/environment.glsl`): the sampling grid's
     /// size ((0, 0) for a constant environment, which is not importance-sampled), the samples a pass of the
-    /// exact mode takes and a word of padding, then the marginal, then each row's conditional
-    /// (`SamplingTable`).
+    /// exact mode takes and a word of padding, then the marginal, each row's conditional, the cells'
+    /// probabilities, the marginal's guide and each row's (`SamplingTable`).
     pub sampling: Buffer,
     /// The fast mode's layers, or a placeholder until a fast render needs them.
     pub prefiltered: Image,
@@ -53,7 +53,8 @@ impl EnvironmentTextures {
         let (width, height) = if map.is_constant() { (0, 0) } else { (table.width, table.height) };
         let words: Vec<u32> = [width, height, super::exact::SAMPLES_PER_PASS, 0]
             .into_iter()
-            .chain(table.marginal.iter().chain(&table.conditional).map(|v| v.to_bits()))
+            .chain(table.marginal.iter().chain(&table.conditional).chain(&table.probabilities).map(|v| v.to_bits()))
+            .chain(table.marginal_guide.iter().chain(&table.conditional_guide).copied())
             .collect();
         let sampling =
             device.create_buffer_with_data(&words, vk::BufferUsageFlags::STORAGE_BUFFER, "environment sampling")?;

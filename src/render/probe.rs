@@ -27,19 +27,21 @@ pub struct ProbeCase {
     pub wo: Vec3,
 }
 
-/// `Directions` of `shaders/brdf_probe.comp` (std430): a case's normal and directions.
-#[repr(C)]
-#[derive(Clone, Copy)]
-struct GpuDirections {
-    n: [f32; 4],
-    wi: [f32; 4],
-    wo: [f32; 4],
+/// A list's case in `AllDirections` of `shaders/brdf_probe.comp`: n, wi and wo, packed.
+type ListDirections = [f32; 9];
+
+/// A grid's case there: wi and wo (n = +z).
+type GridDirections = [f32; 6];
+
+/// The shader's result of a case: f_r's three channels, packed.
+type GpuResult = [f32; 3];
+
+fn list_directions(n: Vec3, wi: Vec3, wo: Vec3) -> ListDirections {
+    [n.x, n.y, n.z, wi.x, wi.y, wi.z, wo.x, wo.y, wo.z]
 }
 
-impl GpuDirections {
-    fn new(n: Vec3, wi: Vec3, wo: Vec3) -> Self {
-        Self { n: n.extend(0.0).into(), wi: wi.extend(0.0).into(), wo: wo.extend(0.0).into() }
-    }
+fn grid_directions(wi: Vec3, wo: Vec3) -> GridDirections {
+    [wi.x, wi.y, wi.z, wo.x, wo.y, wo.z]
 }
 
 /// One job of the albedo probe: a material seen from `wo`, in the frame n = +z, wo in the xz-plane.
@@ -210,12 +212,12 @@ impl ProbePass {
     pub fn run(&mut self, cases: &[ProbeCase], context: ProbeContext) -> Result<Vec<Vec3>> {
         let mut results = vec![Vec3::ZERO; cases.len()];
         // A list holds a material and directions a case, each buffer within the device's range.
-        let per_buffer = per_buffer::<GpuMaterial>(&self.device).min(per_buffer::<GpuDirections>(&self.device));
+        let per_buffer = per_buffer::<GpuMaterial>(&self.device).min(per_buffer::<ListDirections>(&self.device));
         for (variant, indices) in by_variant(cases.iter().map(|c| &c.brdf)) {
             for chunk in indices.chunks(per_buffer) {
                 let materials: Vec<_> = chunk.iter().map(|&i| GpuMaterial::new(&cases[i].brdf, context.data)).collect();
                 let directions: Vec<_> =
-                    chunk.iter().map(|&i| GpuDirections::new(cases[i].n, cases[i].wi, cases[i].wo)).collect();
+                    chunk.iter().map(|&i| list_directions(cases[i].n, cases[i].wi, cases[i].wo)).collect();
                 let directions = self.directions_buffer(&directions)?;
                 let values = self.evaluate(&variant, &materials, (&directions, None), context)?;
                 for (&i, value) in chunk.iter().zip(values) {
@@ -236,8 +238,8 @@ impl ProbePass {
         let mut results = vec![Vec3::ZERO; brdfs.len() * pairs.len()];
         let groups = by_variant(brdfs.iter());
         let mut done = 0;
-        for part in pairs.chunks(per_buffer::<GpuDirections>(&self.device)) {
-            let directions: Vec<_> = part.iter().map(|&(wi, wo)| GpuDirections::new(Vec3::Z, wi, wo)).collect();
+        for part in pairs.chunks(per_buffer::<GridDirections>(&self.device)) {
+            let directions: Vec<_> = part.iter().map(|&(wi, wo)| grid_directions(wi, wo)).collect();
             let directions = self.directions_buffer(&directions)?;
             for (variant, indices) in &groups {
                 let materials: Vec<_> = indices.iter().map(|&m| GpuMaterial::new(&brdfs[m], context.data)).collect();
@@ -252,7 +254,7 @@ impl ProbePass {
         Ok(results)
     }
 
-    fn directions_buffer(&self, directions: &[GpuDirections]) -> Result<Buffer> {
+    fn directions_buffer<T: Copy>(&self, directions: &[T]) -> Result<Buffer> {
         self.device.create_buffer_with_data(directions, vk::BufferUsageFlags::STORAGE_BUFFER, "probe directions")
     }
 
@@ -273,14 +275,15 @@ impl ProbePass {
         let grid = push_constant(grid.unwrap_or(0))?;
         let materials =
             self.device.create_buffer_with_data(materials, vk::BufferUsageFlags::STORAGE_BUFFER, "probe materials")?;
-        let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<[f32; 4]>(&self.device));
+        let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<GpuResult>(&self.device));
         let pipeline = self.eval.pipeline(&self.device, context.compiler, variant)?;
         let mut values = Vec::with_capacity(total);
         for first in (0..total).step_by(per_dispatch) {
             let count = per_dispatch.min(total - first);
             let push = [push_constant(count)?, push_constant(first)?, grid];
-            let bytes = dispatch(&self.device, pipeline, &[&materials, directions], context.data, 16, &push)?;
-            values.extend(read_vec3s(&bytes, 16));
+            let size = std::mem::size_of::<GpuResult>();
+            let bytes = dispatch(&self.device, pipeline, &[&materials, directions], context.data, size, &push)?;
+            values.extend(read_vec3s(&bytes, size));
         }
         Ok(values)
     }

@@ -467,6 +467,52 @@ mod tests {
         assert!(errors[0].is_some() && errors[1].is_none(), "{errors:?}");
     }
 
+    /// The evaluations of a fit of a one-parameter analytic model to `wanted`, its values a Gaussian bump
+    /// centred at the parameter `a` over 64 samples (made by `bump`, not by the GPU): the values of `a` the
+    /// solver asked for, in order.
+    fn searched_points(wanted: &[[f64; 3]], bump: &dyn Fn(f32, usize) -> f64) -> Vec<f32> {
+        let text = "analytic\n::begin parameters\nfloat a 0 1 0.9\n::end parameters\n::begin shader\n\
+                    vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(a); }\n::end shader\n";
+        let model = crate::brdf::AnalyticModel::from_text(std::path::Path::new("bump.brdf"), text.into()).unwrap();
+        let family = super::super::family::analytic_family(
+            crate::brdf::Analytic::defaults(std::sync::Arc::new(model)),
+            &[],
+            true,
+        );
+        let problem = Problem::new(&family, wanted, &vec![1.0; wanted.len()]);
+        let mut asked = Vec::new();
+        let mut values = |brdfs: &[Brdf]| {
+            Ok(brdfs
+                .iter()
+                .map(|b| {
+                    let a = parameters(b)[0].1[0];
+                    asked.push(a);
+                    (0..wanted.len()).map(|s| [bump(a, s); 3]).collect()
+                })
+                .collect())
+        };
+        solve(&problem, &mut values, &mut |_| {}).unwrap();
+        asked
+    }
+
+    #[test]
+    fn the_second_start_is_refined_unless_the_best_reproduces_the_target() {
+        let bump = |a: f32, s: usize| (-((s as f64 / 63.0 - f64::from(a)).powi(2)) / 0.02).exp();
+        // The starts: the model's own a = 0.9, then Halton's 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875,
+        // 0.0625. For a bump at 0.3 the best is 0.25 and the second 0.375, where a second search would start
+        // (Levenberg-Marquardt evaluates its start first).
+        let second = |asked: &[f32]| asked.iter().filter(|&&a| (a - 0.375).abs() < 1e-6).count();
+        let exact: Vec<[f64; 3]> = (0..64).map(|s| [bump(0.3, s); 3]).collect();
+        let asked = searched_points(&exact, &bump);
+        assert_eq!(asked[..9], [0.9, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875, 0.0625]);
+        assert_eq!(second(&asked), 1, "the target was reproduced, yet the second start was refined: {asked:?}");
+        // A target no bump reproduces (a ripple over it): both starts refined.
+        let rippled: Vec<[f64; 3]> =
+            exact.iter().enumerate().map(|(s, v)| [v[0] + 0.01 * (s as f64).sin(); 3]).collect();
+        let asked = searched_points(&rippled, &bump);
+        assert_eq!(second(&asked), 2, "the second start was not refined: {asked:?}");
+    }
+
     #[test]
     fn halton_points_are_the_radical_inverses() {
         assert_eq!([1, 2, 3, 4].map(|i| halton(i, 2)), [0.5, 0.25, 0.75, 0.125]);
