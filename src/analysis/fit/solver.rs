@@ -470,7 +470,7 @@ mod tests {
     /// The evaluations of a fit of a one-parameter analytic model to `wanted`, its values a Gaussian bump
     /// centred at the parameter `a` over 64 samples (made by `bump`, not by the GPU): the values of `a` the
     /// solver asked for, in order.
-    fn searched_points(wanted: &[[f64; 3]], bump: &dyn Fn(f32, usize) -> f64) -> Vec<f32> {
+    fn searched_points(wanted: &[[f64; 3]], bump: &dyn Fn(f64, usize) -> f64) -> Vec<f32> {
         let text = "analytic\n::begin parameters\nfloat a 0 1 0.9\n::end parameters\n::begin shader\n\
                     vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(a); }\n::end shader\n";
         let model = crate::brdf::AnalyticModel::from_text(std::path::Path::new("bump.brdf"), text.into()).unwrap();
@@ -487,7 +487,7 @@ mod tests {
                 .map(|b| {
                     let a = parameters(b)[0].1[0];
                     asked.push(a);
-                    (0..wanted.len()).map(|s| [bump(a, s); 3]).collect()
+                    (0..wanted.len()).map(|s| [bump(f64::from(a), s); 3]).collect()
                 })
                 .collect())
         };
@@ -497,12 +497,13 @@ mod tests {
 
     #[test]
     fn the_second_start_is_refined_unless_the_best_reproduces_the_target() {
-        let bump = |a: f32, s: usize| (-((s as f64 / 63.0 - f64::from(a)).powi(2)) / 0.02).exp();
+        let bump = |a: f64, s: usize| (-((s as f64 / 63.0 - a).powi(2)) / 0.02).exp();
         // The starts: the model's own a = 0.9, then Halton's 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875,
         // 0.0625. For a bump at 0.3 the best is 0.25 and the second 0.375, where a second search would start
         // (Levenberg-Marquardt evaluates its start first).
         let second = |asked: &[f32]| asked.iter().filter(|&&a| (a - 0.375).abs() < 1e-6).count();
-        let exact: Vec<[f64; 3]> = (0..64).map(|s| [bump(0.3, s); 3]).collect();
+        // Its centre between two float32 values: reproduced to their resolution, not to zero.
+        let exact: Vec<[f64; 3]> = (0..64).map(|s| [bump(0.300_000_01, s); 3]).collect();
         let asked = searched_points(&exact, &bump);
         assert_eq!(asked[..9], [0.9, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875, 0.0625]);
         assert_eq!(second(&asked), 1, "the target was reproduced, yet the second start was refined: {asked:?}");
