@@ -319,8 +319,7 @@ fn the_sampling_tables_guides_and_probabilities_change_no_sample() {
             )
         })
         .expect("the edits fit");
-    let mut whole = Renderer::new(vk_render::RendererOptions { validate: true, shaders: whole, ..Default::default() })
-        .expect("a renderer");
+    let mut whole = renderer_with_shaders(whole);
     // Eight passes (each its own shift of the sequences) of the whole image say as much as all 256 would.
     let scene = lit_five_brdfs("studio", "exact");
     let passes = |renderer: &mut Renderer| {

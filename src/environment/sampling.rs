@@ -47,7 +47,7 @@ pub struct SamplingTable {
 
 /// How many buckets a guide of a table of `n` intervals has: a power of two (so that u times it, and k over
 /// it, are exact in float32, and u's bucket is the one the cutpoints were computed for) at least `n`.
-pub fn buckets(n: u32) -> u32 {
+fn buckets(n: u32) -> u32 {
     n.next_power_of_two()
 }
 

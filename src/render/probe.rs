@@ -277,11 +277,11 @@ impl ProbePass {
             self.device.create_buffer_with_data(materials, vk::BufferUsageFlags::STORAGE_BUFFER, "probe materials")?;
         let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<GpuResult>(&self.device));
         let pipeline = self.eval.pipeline(&self.device, context.compiler, variant)?;
+        let size = std::mem::size_of::<GpuResult>();
         let mut values = Vec::with_capacity(total);
         for first in (0..total).step_by(per_dispatch) {
             let count = per_dispatch.min(total - first);
             let push = [push_constant(count)?, push_constant(first)?, grid];
-            let size = std::mem::size_of::<GpuResult>();
             let bytes = dispatch(&self.device, pipeline, &[&materials, directions], context.data, size, &push)?;
             values.extend(read_vec3s(&bytes, size));
         }

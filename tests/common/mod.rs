@@ -168,5 +168,10 @@ pub fn peak_resident_mb(args: &[&str]) -> (u64, String) {
 /// `file` under shaders/, the way tests break a shader on purpose.
 pub fn mutant_renderer(file: &str, from: &str, to: &str) -> Renderer {
     let shaders = vk_render::vulkan::ShaderSources::default().with_replaced(file, from, to).expect("the edit fits");
+    renderer_with_shaders(shaders)
+}
+
+/// A validating renderer of its own with `shaders`.
+pub fn renderer_with_shaders(shaders: vk_render::vulkan::ShaderSources) -> Renderer {
     Renderer::new(RendererOptions { validate: true, shaders, ..Default::default() }).expect("a renderer")
 }
