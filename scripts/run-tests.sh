@@ -2,7 +2,9 @@
 # `make test`'s tests: cargo builds every test binary, then they run side by side, as many at once as the
 # machine has cores, the longest first, each binary's output shown whole when it ends; then the doc tests.
 # With VK_RENDER_TEST_PYTHON=1 the Python package's tests are one more of them (scripts/test-python.sh), its
-# wheel built and installed before any test starts, but for those that bound a latency, run alone at the end.
+# wheel built and installed before any test starts. The tests that must have the machine to themselves run
+# alone at the end: those that bound a latency, and those whose shader never ends on purpose (on a GPU its
+# process's end resets the device, and the other processes rendering then lose theirs: seen on an H200).
 #
 # Why not one `cargo test`: it runs the binaries one after another, and on 2 cores a third of the machine
 # stood idle while a binary waited (the server's timeouts, a child process, a binary with one long test
@@ -40,8 +42,8 @@ mapfile -t built < <(grep '"profile":{[^}]*"test":true' "$logs/build.json" |
 if [ "${VK_RENDER_TEST_PYTHON:-0}" = 1 ]; then
     VK_RENDER_PYTHON=$(scripts/python-env.sh)
     export VK_RENDER_PYTHON
-    # pytest, its latency bounds left for the end (below).
-    export PYTEST_ADDOPTS="-m 'not latency'"
+    # pytest, its tests that run alone left for the end (below).
+    export PYTEST_ADDOPTS="-m 'not alone'"
     built+=("python/tests"$'\t'"$project/scripts/test-python.sh")
 fi
 
@@ -65,9 +67,10 @@ done
 # Its time is the wall-clock time and the CPU time (user and system) of the binary and the children it
 # waited for (the vk-render processes its tests start), as bash's `time` reports them.
 run_one() {
-    local source=${1%%$'\t'*} exe=${1#*$'\t'} logs=$2 limit=$3 log status=0 took TIMEFORMAT='%R %U %S'
+    local source=${1%%$'\t'*} exe=${1#*$'\t'} logs=$2 limit=$3 log status=0 took TIMEFORMAT='%R %U %S' skip=()
     log="$logs/$(basename "$exe").log"
-    { time timeout --kill-after=10 "$limit" "$exe" >"$log" 2>&1; } 2>"$log.time" || status=$?
+    [ "$source" = python/tests ] || skip=(--skip "$ALONE")
+    { time timeout --kill-after=10 "$limit" "$exe" "${skip[@]}" >"$log" 2>&1; } 2>"$log.time" || status=$?
     took=$(awk '{ printf "%.0f s, %.0f s of CPU", $1, $2 + $3 }' "$log.time")
     if [ "$status" -eq 0 ]; then
         echo "== $source: $(grep -E '^test result:|^[0-9]+ passed' "$log" | tail -n 1) ($took)"
@@ -79,6 +82,8 @@ run_one() {
     fi
 }
 export -f run_one
+# The Rust test whose shader never ends (tests/analytic_cli.rs), skipped beside the others and run at the end.
+export ALONE=a_brdf_that_never_ends_is_given_up_at_the_timeout_naming_its_file
 
 started=$(date +%s)
 printf '%s\0' "${ordered[@]}" | xargs -0 -n 1 -P "$jobs" bash -c 'run_one "$3" "$1" "$2"' run_one "$logs" "$limit" ||
@@ -91,10 +96,15 @@ if [ ${#failed[@]} -gt 0 ]; then
     exit 1
 fi
 
-# The Python tests that bound a latency (Ctrl-C within a second), alone: beside another test binary on
-# Debian 13 an interrupted exact render took 1.01 to 1.37 s.
+# The tests that run alone: the shader that never ends, and the Python tests marked so (Ctrl-C within a
+# second: beside another test binary on Debian 13 an interrupted exact render took 1.01 to 1.37 s).
+for entry in "${ordered[@]}"; do
+    if [ "${entry%%$'\t'*}" = tests/analytic_cli.rs ]; then
+        "${entry#*$'\t'}" --exact "$ALONE"
+    fi
+done
 if [ "${VK_RENDER_TEST_PYTHON:-0}" = 1 ]; then
-    PYTEST_ADDOPTS= scripts/test-python.sh -m latency
+    PYTEST_ADDOPTS= scripts/test-python.sh -m alone
 fi
 
 "$cargo" test "$@" --doc

@@ -19,8 +19,9 @@ BIN = Path(os.environ.get("VK_RENDER_BIN") or Path(os.environ.get("CARGO_TARGET_
 def pytest_configure(config):
     config.addinivalue_line(
         "markers",
-        "latency: bounds how long something takes; make test runs these alone, after the other tests "
-        "(scripts/run-tests.sh), since tests beside them on 2 cores slow any call past such a bound",
+        "alone: make test runs these alone, after the other tests (scripts/run-tests.sh): they bound how long "
+        "something takes, which tests beside them on 2 cores slow past the bound, or hang the device on purpose, "
+        "which on a GPU ends in a reset that takes other processes' work with it",
     )
 
 

@@ -90,6 +90,7 @@ vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return dot(V, X) < 0.0 ? vec
         renderer.render(scene)
 
 
+@pytest.mark.alone
 def test_a_brdf_that_outlasts_the_timeout_is_a_device_error(tmp_path):
     slow = """analytic
 ::begin parameters

@@ -92,7 +92,7 @@ CHILD = textwrap.dedent(
 )
 
 
-@pytest.mark.latency
+@pytest.mark.alone
 @pytest.mark.parametrize("call", ["busy", "render", "reference"])
 def test_ctrl_c_raises_keyboard_interrupt_within_a_second(call):
     child = subprocess.Popen(

@@ -167,15 +167,23 @@ vec3 environment_exact(Material m, vec3 n, vec3 t, vec3 wo) {
     return sum / float(count);
 }
 
+// Where the prefiltered layers hold world direction d: u as the map's, v onto their rows, which run from
+// pole to pole (src/environment/prefilter.rs), the first row's centre at v = 0 and the last's at v = 1.
+vec2 layer_uv(vec3 d) {
+    vec2 uv = map_uv(to_map(d));
+    float rows = float(textureSize(environment_prefiltered, 0).y);
+    return vec2(uv.x, (uv.y * (rows - 1.0) + 0.5) / rows);
+}
+
 // The environment averaged over the cosine lobe about world direction d: the irradiance over pi (layer 0).
 vec3 irradiance_over_pi(vec3 d) {
-    return frame.environment.z * textureLod(environment_prefiltered, vec3(map_uv(to_map(d)), 0.0), 0.0).rgb;
+    return frame.environment.z * textureLod(environment_prefiltered, vec3(layer_uv(d), 0.0), 0.0).rgb;
 }
 
 // The environment averaged over the cosine-power lobe of exponent s about world direction d: the layers
 // around log2(s), read linearly between; past the last lobe, towards the map itself.
 vec3 prefiltered(vec3 d, float s) {
-    vec2 uv = map_uv(to_map(d));
+    vec2 uv = layer_uv(d);
     float level = log2(max(s, 1.0));
     float layer = level <= PREFILTERED_LOBES - 1.0 ? level
                                                   : PREFILTERED_LOBES - 1.0 + min((level - PREFILTERED_LOBES + 1.0) / 4.0, 1.0);

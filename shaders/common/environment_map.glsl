@@ -28,8 +28,13 @@ vec3 to_world(vec3 d) {
     return vec3(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
 }
 
-// Map coordinates of a unit direction of the map's frame, and the direction at map coordinates.
-vec2 map_uv(vec3 d) { return vec2(atan(d.x, d.z) * (0.5 * INV_PI) + 0.5, acos(clamp(d.y, -1.0, 1.0)) * INV_PI); }
+// Map coordinates of a unit direction of the map's frame, and the direction at map coordinates. Straight up
+// or down (an upward floor's normal) u is 1/2: GLSL leaves atan(0, 0) undefined, and NVIDIA's and lavapipe's
+// differed, which moved a floor's irradiance in the fast mode by 5% (src/environment/mod.rs, uv_of).
+vec2 map_uv(vec3 d) {
+    float phi = d.x == 0.0 && d.z == 0.0 ? 0.0 : atan(d.x, d.z);
+    return vec2(phi * (0.5 * INV_PI) + 0.5, acos(clamp(d.y, -1.0, 1.0)) * INV_PI);
+}
 vec3 map_direction(vec2 uv) {
     float theta = PI * uv.y, phi = 2.0 * PI * (uv.x - 0.5);
     return vec3(sin(theta) * sin(phi), cos(theta), sin(theta) * cos(phi));

@@ -117,10 +117,11 @@ impl EnvironmentMap {
     }
 }
 
-/// The map coordinates of unit direction `d` in the map's own frame.
+/// The map coordinates of unit direction `d` in the map's own frame; straight up or down, whose azimuth is
+/// none, u = 1/2 (as the shaders' `map_uv`: atan2(0, -0) would be pi here).
 pub fn uv_of(d: Vec3) -> Vec2 {
     let theta = d.y.clamp(-1.0, 1.0).acos();
-    let phi = d.x.atan2(d.z);
+    let phi = if d.x == 0.0 && d.z == 0.0 { 0.0 } else { d.x.atan2(d.z) };
     Vec2::new(phi / (2.0 * PI) + 0.5, theta / PI)
 }
 

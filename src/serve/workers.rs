@@ -62,6 +62,9 @@ pub struct Workers {
     deadline: Duration,
     /// A device error injected into the Nth job, for the fault tests (`VK_RENDER_SERVE_FAULT=N`).
     fault: Option<usize>,
+    /// How long each job waits on its worker before it runs (`VK_RENDER_SERVE_HOLD_MS`): the stop test's
+    /// requests must still be in flight when SIGTERM comes, and on a GPU a render is over in milliseconds.
+    hold: Duration,
     jobs: AtomicUsize,
 }
 
@@ -98,12 +101,14 @@ impl Workers {
             threads.push(thread);
         }
         let fault = std::env::var("VK_RENDER_SERVE_FAULT").ok().and_then(|n| n.parse().ok());
+        let hold = std::env::var("VK_RENDER_SERVE_HOLD_MS").ok().and_then(|ms| ms.parse().ok());
         Ok(Self {
             shared,
             threads: Mutex::new(threads),
             pending: Arc::new(AtomicUsize::new(0)),
             deadline,
             fault,
+            hold: Duration::from_millis(hold.unwrap_or(0)),
             jobs: AtomicUsize::new(0),
         })
     }
@@ -122,8 +127,10 @@ impl Workers {
         let injected = self.fault == Some(number);
         let pending = self.pending.clone();
         let reply = answer.clone();
+        let hold = self.hold;
         let job = Job {
             work: Box::new(move |renderer| {
+                std::thread::sleep(hold);
                 let result = if injected {
                     Err(ApiError::from_library(&vk_render::Error::Vulkan(ash::vk::Result::ERROR_DEVICE_LOST)))
                 } else {

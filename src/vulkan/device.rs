@@ -121,8 +121,11 @@ pub struct Device {
     pub depth_range_unrestricted: bool,
     /// How long a wait for submitted work may last, in nanoseconds ([`Device::set_timeout`]).
     timeout_ns: AtomicU64,
-    /// Whether work was given up after it outlasted the timeout: see [`Device::give_up`].
+    /// Whether work was given up after it outlasted the timeout, or the device was lost: see
+    /// [`Device::give_up`].
     given_up: AtomicBool,
+    /// Whether the driver reported the device lost (the reason it was given up).
+    lost: AtomicBool,
 }
 
 /// How long vk-render waits for the device to finish a piece of work before giving the device up (`--timeout`):
@@ -231,6 +234,7 @@ impl Device {
             depth_range_unrestricted,
             timeout_ns: AtomicU64::new(DEFAULT_TIMEOUT.as_nanos() as u64),
             given_up: AtomicBool::new(false),
+            lost: AtomicBool::new(false),
         }))
     }
 
@@ -300,6 +304,9 @@ impl Device {
             })
             .collect();
         let timeout = self.timeout();
+        if self.lost.load(Ordering::SeqCst) {
+            return Err(Error::Vulkan(vk::Result::ERROR_DEVICE_LOST));
+        }
         if self.is_given_up() {
             return Err(Error::Timeout { seconds: timeout.as_secs_f64(), models: Vec::new() });
         }
@@ -333,9 +340,16 @@ impl Device {
                 self.give_up();
                 return Err(Error::Timeout { seconds: timeout.as_secs_f64(), models: Vec::new() });
             }
-            if result.is_err() {
-                // A failed submission may leave work queued: finish it before freeing what it uses.
-                let _ = self.raw.device_wait_idle();
+            // A failed submission may leave work queued: finish it before freeing what it uses. A lost device
+            // finishes nothing, and its fences and command buffers stay in use for good (on an NVIDIA GPU, a
+            // shader that never ends in another process can take this one's work with it): given up, as
+            // after a timeout, so that nothing it may still use is destroyed.
+            let lost = matches!(result, Err(Error::Vulkan(vk::Result::ERROR_DEVICE_LOST)))
+                || (result.is_err() && self.raw.device_wait_idle() == Err(vk::Result::ERROR_DEVICE_LOST));
+            if lost {
+                self.lost.store(true, Ordering::SeqCst);
+                self.give_up();
+                return Err(Error::Vulkan(vk::Result::ERROR_DEVICE_LOST));
             }
             self.raw.destroy_fence(fence, None);
             self.raw.free_command_buffers(self.command_pool, &[cmd]);
