@@ -6,7 +6,8 @@ RUNTIME_PACKAGES := mesa-vulkan-drivers libvulkan1 glmark2-data
 # The preview's window: winit opens these X11 libraries at run time.
 PREVIEW_PACKAGES := libx11-6 libx11-xcb1 libxcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon0 libxkbcommon-x11-0
 # The shaderc crate's build compiles C++; build.rs finds the glslang and SPIRV-Tools archives with pkg-config.
-BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools glslc g++ pkg-config
+# build.rs translates the browser's shaders with spirv-cross and checks them with glslang-tools' glslangValidator.
+BUILD_PACKAGES := libshaderc-dev glslang-dev spirv-tools glslc g++ pkg-config spirv-cross glslang-tools
 TEST_PACKAGES := vulkan-validationlayers xvfb xauth chromium chromium-driver curl
 
 CARGO ?= cargo

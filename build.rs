@@ -11,6 +11,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+#[path = "build/webgl.rs"]
+mod webgl;
+
 /// The archives shaderc needs, in link order (each before those it uses), and whether every glslang has it.
 const ARCHIVES: [(&str, bool); 8] = [
     ("glslang", true),
@@ -27,6 +30,7 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     embed_shaders();
     compile_shaders();
+    translate_for_webgl();
     link_glslang_and_spirv_tools();
 }
 
@@ -99,7 +103,7 @@ fn embed_shaders() {
     println!("cargo:rerun-if-changed=shaders");
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut files = Vec::new();
-    collect(&root, &mut files);
+    webgl::collect(&root, &mut files);
     files.sort();
     let mut table = String::from("&[\n");
     for file in &files {
@@ -123,13 +127,14 @@ fn compile_shaders() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("spirv");
     let mut files = Vec::new();
-    collect(&root, &mut files);
+    webgl::collect(&root, &mut files);
     files.sort();
     let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".into());
     let mut table = String::from("&[\n");
     for file in &files {
         let relative = file.strip_prefix(&root).expect("under shaders/").to_string_lossy().replace('\\', "/");
-        if !["vert", "frag", "comp"].iter().any(|stage| relative.ends_with(&format!(".{stage}"))) {
+        // shaders/web/ holds the browser's own entries (translate_for_webgl), which the renderer never runs.
+        if !webgl::is_entry(&relative) || relative.starts_with("web/") {
             continue;
         }
         // An entry file may name variants, each compiled again with its macros defined: `// variant: A+B`
@@ -160,13 +165,20 @@ fn compile_shaders() {
     std::fs::write(out.with_extension("rs"), table).expect("OUT_DIR is writable");
 }
 
-fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).expect("shaders/ is readable").flatten() {
-        let path = entry.path();
-        if path.is_dir() {
-            collect(&path, files);
-        } else {
-            files.push(path);
-        }
+/// Writes `$OUT_DIR/webgl.rs`: the browser's shaders (build/webgl.rs translates them), a table of each entry
+/// file's name and its GLSL ES 3.00; a shader the translation cannot take stops the build here, with the
+/// tool's errors above, never in a visitor's browser.
+fn translate_for_webgl() {
+    println!("cargo:rerun-if-changed=build/webgl.rs");
+    println!("cargo:rerun-if-env-changed=SPIRV_CROSS");
+    println!("cargo:rerun-if-env-changed=GLSLANG_VALIDATOR");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("webgl");
+    let translated = webgl::translate(&root, &out, true).unwrap_or_else(|e| panic!("{e}"));
+    let mut table = String::from("&[\n");
+    for (entry, file) in translated {
+        table.push_str(&format!("    ({entry:?}, include_str!({:?})),\n", file.display().to_string()));
     }
+    table.push_str("]\n");
+    std::fs::write(out.with_extension("rs"), table).expect("OUT_DIR is writable");
 }

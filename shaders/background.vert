@@ -1,4 +1,5 @@
 #version 460
+// webgl
 
 // The background: one triangle over the whole target (a 4 x 4 square's corner, clipped), at the far end
 // of reverse-Z depth (0). Drawn first, with every test passing, it writes every sample's colour and depth,

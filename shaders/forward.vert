@@ -1,4 +1,5 @@
 #version 460
+// webgl
 
 #include "common/scene.glsl"
 

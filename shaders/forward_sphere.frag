@@ -1,4 +1,5 @@
 #version 460
+// webgl
 // variant: WITH_ENVIRONMENT
 // variant: TERM_VIEWS
 // variant: WITH_ENVIRONMENT+TERM_VIEWS
@@ -30,6 +31,14 @@ const vec2 SAMPLE_LOCATIONS[15] = vec2[15](
     vec2(0.5625, 0.3125), vec2(0.4375, 0.6875), vec2(0.8125, 0.5625), vec2(0.3125, 0.1875),
     vec2(0.1875, 0.8125), vec2(0.0625, 0.4375), vec2(0.6875, 0.9375), vec2(0.9375, 0.0625));
 
+// The samples this fragment covers. WebGL2 (GLSL ES 3.00) has no sample masks: the browser draws one sample a
+// pixel (SAMPLES 1), which the fragment covers whole, so its coverage is the pixel centre's ray's alone.
+#ifdef WEBGL
+#define SAMPLES_OF_FRAGMENT 1
+#else
+#define SAMPLES_OF_FRAGMENT gl_SampleMaskIn[0]
+#endif
+
 // The camera's unit ray through a framebuffer position.
 vec3 camera_ray(vec2 position) {
     return normalize((frame.pixel_rays * vec4(position, 1.0, 0.0)).xyz);
@@ -57,7 +66,7 @@ void main() {
                 any_hit = true;
             }
             // Samples outside this triangle's are another triangle's fragment's to cover.
-            covered |= gl_SampleMaskIn[0] & (1 << i);
+            covered |= SAMPLES_OF_FRAGMENT & (1 << i);
         }
     }
     if (covered == 0) {
@@ -70,7 +79,9 @@ void main() {
         t = first_t;
     }
     vec3 p = eye + t * ray;
+#ifndef WEBGL
     gl_SampleMask[0] = covered;
+#endif
     vec4 clip = frame.view_projection * vec4(p, 1.0);
     gl_FragDepth = clip.z / clip.w;
     out_radiance = vec4(pixel_value(object, p, (p - center) / radius, vec3(0.0)), 1.0);

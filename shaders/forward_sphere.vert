@@ -1,4 +1,5 @@
 #version 460
+// webgl
 
 // The forward pass of spheres: the bounding mesh placed in clip space. Its fragments find the exact sphere
 // along the camera's rays (forward_sphere.frag), so nothing is interpolated.

@@ -18,6 +18,8 @@
 // variant: BACKGROUND
 // variant: BACKGROUND+SINGLE_SAMPLE
 
+#include "common/output.glsl"
+
 // Along a row: each invocation a pixel (radiance) or four (levels); each row of workgroups a row of pixels.
 layout(local_size_x = 64) in;
 
@@ -77,16 +79,6 @@ vec4 pixel_mean(ivec2 pixel) {
     return mean;
 }
 
-// output.rs's `encode(tonemap(c * exposure, Clamp), Linear)`: NaN and below 0 give 0, above 1 gives 255,
-// and between, x255 truncated (the course's levels).
-uint course_level(float c) {
-    precise float exposed = c * resolve.exposure;
-    if (!(exposed > 0.0)) {
-        return 0u;
-    }
-    precise float scaled = min(exposed, 1.0) * 255.0;
-    return uint(scaled);
-}
 
 // The levels of `pixel`, packed as R, G, B, 255 (B, G, R, 255) in memory order; 0 past the row's end.
 uint packed_levels(ivec2 pixel) {
@@ -94,7 +86,8 @@ uint packed_levels(ivec2 pixel) {
         return 0u;
     }
     vec4 mean = pixel_mean(pixel);
-    uvec3 levels = uvec3(course_level(mean.r), course_level(mean.g), course_level(mean.b));
+    float e = resolve.exposure;
+    uvec3 levels = uvec3(course_level(mean.r, e), course_level(mean.g, e), course_level(mean.b, e));
     if (BGRA) {
         levels = levels.bgr;
     }

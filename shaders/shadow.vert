@@ -1,4 +1,5 @@
 #version 460
+// webgl
 
 // The shadow pass: the scene seen from one light through one face of its cube (draw.face).
 

@@ -1,4 +1,5 @@
 #version 460
+// webgl
 
 // The shadow pass of spheres: the distance from the light to the exact sphere along the texel centre's ray
 // (the bounding mesh's interpolated point lies on it), which the cube lookup reads; texels whose ray misses

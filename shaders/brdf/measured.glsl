@@ -13,7 +13,20 @@
 #ifndef MEASURED_BINDING
 #error "MEASURED_BINDING: define the binding of the measured tables before including brdf/measured.glsl"
 #endif
+#ifdef WEBGL
+// The browser's build: a float texture of MEASURED_TEXTURE_WIDTH texels a row, one entry (rgb) a texel.
+const uint MEASURED_TEXTURE_WIDTH = 4096u;
+layout(set = 0, binding = MEASURED_BINDING) uniform sampler2D measured_tables;
+vec3 measured_texel(uint entry) {
+    return texelFetch(measured_tables, ivec2(entry % MEASURED_TEXTURE_WIDTH, entry / MEASURED_TEXTURE_WIDTH), 0).rgb;
+}
+#else
 layout(set = 0, binding = MEASURED_BINDING, std430) readonly buffer MeasuredTables { float measured_tables[]; };
+vec3 measured_texel(uint entry) {
+    uint i = 3u * entry;
+    return vec3(measured_tables[i], measured_tables[i + 1u], measured_tables[i + 2u]);
+}
+#endif
 
 // BRDF_SAMPLING_RES_THETA_H, _THETA_D and _PHI_D / 2 of BRDFRead.cpp.
 const uint MERL_THETA_H_BINS = 90u;
@@ -56,8 +69,7 @@ vec3 measured_coordinates(vec3 angles) {
 // Entry (theta_h, theta_d, phi_d) of table `table`: phi_d + 180 (theta_d + 90 theta_h) (lookup_brdf_val).
 vec3 measured_entry(uint table, uint theta_h, uint theta_d, uint phi_d) {
     uint index = phi_d + MERL_PHI_D_BINS * (theta_d + MERL_THETA_D_BINS * theta_h);
-    uint i = 3u * (table * MERL_ENTRIES + index);
-    return vec3(measured_tables[i], measured_tables[i + 1u], measured_tables[i + 2u]);
+    return measured_texel(table * MERL_ENTRIES + index);
 }
 
 // Trilinear between the eight entries around c, theta_h and theta_d held at their first and last entries'

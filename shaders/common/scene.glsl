@@ -46,12 +46,24 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 environment;
 } frame;
 
+#ifdef WEBGL
+// The browser's build (WebGL2, GLSL ES 3.00 by SPIRV-Cross: build.rs): no storage buffers and no cube arrays.
+// The lights and the shadow views are uniform blocks of the scene format's most lights (src/scene: MAX_LIGHTS);
+// the objects' block holds the one object drawn (draw.object_index is 0); the shadow cubes are the layers
+// of a 2D array texture, six a cube in Vulkan's face order, read as Vulkan reads a cube (shadow_distance).
+const uint MAX_LIGHTS = 16u;
+layout(set = 0, binding = 1, std140) uniform Lights { PointLight lights[MAX_LIGHTS]; };
+layout(set = 0, binding = 2, std140) uniform Objects { ObjectData objects[1]; };
+layout(set = 0, binding = 3, std140) uniform ShadowViews { mat4 shadow_views[6u * MAX_LIGHTS]; };
+layout(set = 0, binding = 4) uniform sampler2DArray shadow_maps;
+#else
 layout(set = 0, binding = 1, std430) readonly buffer Lights { PointLight lights[]; };
 layout(set = 0, binding = 2, std430) readonly buffer Objects { ObjectData objects[]; };
 // Six view-projections per shadow cube, in Vulkan's face order (+x, -x, +y, -y, +z, -z).
 layout(set = 0, binding = 3, std430) readonly buffer ShadowViews { mat4 shadow_views[]; };
 // Distance from each light to the nearest surface, one cube per shadow-casting light.
 layout(set = 0, binding = 4) uniform samplerCubeArray shadow_maps;
+#endif
 // Bindings 5 to 8 are the environment's (common/environment.glsl); 9 holds the measured tables, 10 the
 // analytic materials' values and 11 the object's report of them (common/analytic.glsl).
 #define MEASURED_BINDING 9
@@ -71,5 +83,35 @@ bool world_point(vec4 homogeneous, out vec3 p) {
     p = homogeneous.xyz / homogeneous.w;
     return true;
 }
+
+// What shadow cube `layer` holds in `direction` (the distance from its light to the nearest surface), the
+// texel nearest to where the direction points, as the renderer's nearest sampler reads it.
+#ifdef WEBGL
+// Vulkan's cube lookup written out (the specification's table: the face of the major axis, x before y before
+// z on a tie, and (s, t) on it), then the nearest texel of that face's layer.
+float shadow_distance(vec3 d, float layer) {
+    vec3 a = abs(d);
+    int face;
+    vec3 st_ma;  // sc, tc and the major axis's magnitude
+    if (a.x >= a.y && a.x >= a.z) {
+        face = d.x > 0.0 ? 0 : 1;
+        st_ma = vec3(d.x > 0.0 ? -d.z : d.z, -d.y, a.x);
+    } else if (a.y >= a.z) {
+        face = d.y > 0.0 ? 2 : 3;
+        st_ma = vec3(d.x, d.y > 0.0 ? d.z : -d.z, a.y);
+    } else {
+        face = d.z > 0.0 ? 4 : 5;
+        st_ma = vec3(d.z > 0.0 ? d.x : -d.x, -d.y, a.z);
+    }
+    vec2 st = 0.5 * (st_ma.xy / st_ma.z + 1.0);
+    int size = textureSize(shadow_maps, 0).x;
+    ivec2 texel = clamp(ivec2(floor(st * float(size))), ivec2(0), ivec2(size - 1));
+    return texelFetch(shadow_maps, ivec3(texel, 6 * int(layer) + face), 0).r;
+}
+#else
+float shadow_distance(vec3 direction, float layer) {
+    return textureLod(shadow_maps, vec4(direction, layer), 0.0).r;
+}
+#endif
 
 #endif

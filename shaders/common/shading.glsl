@@ -51,7 +51,7 @@ float lit_in(vec3 direction, float layer, uint seen, float unoccluded) {
     if ((faces_read(direction) & ~seen) != 0u) {
         return 1.0;
     }
-    return textureLod(shadow_maps, vec4(direction, layer), 0.0).r < unoccluded ? 0.0 : 1.0;
+    return shadow_distance(direction, layer) < unoccluded ? 0.0 : 1.0;
 }
 
 // Whether the light sees p (1) or not (0), or the fraction of PCF lookups that do.

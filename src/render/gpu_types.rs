@@ -232,6 +232,17 @@ pub fn diffuse_id(brdf: &Brdf) -> u32 {
 impl GpuMaterial {
     /// `brdf`'s material, its measured table or analytic values (if any) at their places in `data`.
     pub fn new(brdf: &Brdf, data: MaterialData) -> Self {
+        let base = GpuMaterial { brdf: brdf_id(brdf), ..GpuMaterial::default() };
+        match *brdf {
+            Brdf::Measured(ref table) => GpuMaterial { measured: data.measured.slot(table), ..base },
+            Brdf::Analytic(ref material) => GpuMaterial { analytic: data.analytic.first(material), ..base },
+            _ => Self::of_parameters(brdf),
+        }
+    }
+
+    /// The material of one of the course's models, whose parameters are all its data (a measured or an
+    /// analytic material's data lie elsewhere: only its id is set).
+    pub fn of_parameters(brdf: &Brdf) -> Self {
         let rgb = |v: Vec3| v.extend(0.0).to_array();
         let base = GpuMaterial { brdf: brdf_id(brdf), ..GpuMaterial::default() };
         match *brdf {
@@ -248,8 +259,7 @@ impl GpuMaterial {
                 diffuse: diffuse_id(brdf),
                 ..base
             },
-            Brdf::Measured(ref table) => GpuMaterial { measured: data.measured.slot(table), ..base },
-            Brdf::Analytic(ref material) => GpuMaterial { analytic: data.analytic.first(material), ..base },
+            Brdf::Measured(_) | Brdf::Analytic(_) => base,
         }
     }
 }
@@ -257,12 +267,17 @@ impl GpuMaterial {
 impl GpuObject {
     /// An object placed by `model`, its material's data in `data`.
     pub fn new(object: &Object, model: Mat4, data: MaterialData) -> Self {
+        Self { material: GpuMaterial::new(&object.brdf, data), ..Self::placed(object, model) }
+    }
+
+    /// An object placed by `model`, its material left default: its matrices and flags.
+    pub fn placed(object: &Object, model: Mat4) -> Self {
         let two_sided = matches!(object.shape, Shape::Plane { .. } | Shape::Triangles(_));
         let tangent = if matches!(object.shape, Shape::Plane { .. }) { TANGENT_PLANE } else { TANGENT_DEFAULT };
         Self {
             model: model.to_cols_array_2d(),
             normal_matrix: model.inverse().transpose().to_cols_array_2d(),
-            material: GpuMaterial::new(&object.brdf, data),
+            material: GpuMaterial::default(),
             flags: [u32::from(two_sided), tangent, 0, 0],
         }
     }

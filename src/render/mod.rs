@@ -45,11 +45,12 @@ use probe::{read_vec3s, ProbeContext, ProbePass};
 pub use probe::{AlbedoCell, AlbedoJob, CellIntegral, ProbeCase};
 use resolve::{Readout, ResolvePass};
 use scene_data::SceneData;
+pub use shadow::cube_face_views;
 use shadow::{ShadowCubes, ShadowPass, DISTANCE_FORMAT};
 use targets::{Targets, BYTES_PER_PIXEL};
 
 /// The near plane's distance: with reverse-Z float depth the precision does not depend on it.
-const NEAR_PLANE: f32 = 1e-3;
+pub const NEAR_PLANE: f32 = 1e-3;
 
 /// How to open the renderer.
 #[derive(Clone, Debug, Default)]

@@ -130,6 +130,8 @@ pub struct SceneDescription {
     pub lights: Vec<LightDescription>,
     pub camera: CameraDescription,
     pub environment: bool,
+    /// What the page needs to render the scene in the browser.
+    pub browser: super::browser::BrowserScene,
 }
 
 #[derive(Serialize)]
@@ -223,6 +225,7 @@ fn describe_scene(entry: &Entry) -> SceneDescription {
             fov_y: camera.fov_y,
         },
         environment: scene.environment.is_some(),
+        browser: super::browser::describe(entry),
     }
 }
 

@@ -7,6 +7,7 @@
 
 mod api;
 mod auth;
+mod browser;
 mod catalogue;
 mod check;
 mod error;
@@ -177,6 +178,7 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .route("/check", get(pages::check))
         .route("/reports/{id}", get(pages::report))
         .route("/signin", get(pages::sign_in_query).post(pages::sign_in_form))
+        .route("/static/shaders.json", get(browser::shaders))
         .route("/static/{name}", get(pages::asset));
     let json_api = Router::new()
         .route("/api/scenes", get(api::scenes))
@@ -188,6 +190,7 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .route("/api/reports/{id}", get(api::report))
         .route("/api/reports/{id}/{picture}", get(api::report_picture))
         .route("/api/explore", get(explore::explore))
+        .route("/api/mesh", get(browser::mesh))
         .layer(DefaultBodyLimit::max(api::MAX_JSON_BYTES));
     // The form's own overhead beside the image: its boundaries, headers and the scene's id.
     let upload = Router::new()

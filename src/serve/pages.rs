@@ -17,6 +17,7 @@ const STATIC: &[(&str, &str, &str)] = &[
     ("style.css", "text/css; charset=utf-8", include_str!("pages/style.css")),
     ("common.js", "text/javascript; charset=utf-8", include_str!("pages/common.js")),
     ("explore.js", "text/javascript; charset=utf-8", include_str!("pages/explore.js")),
+    ("webgl.js", "text/javascript; charset=utf-8", include_str!("pages/webgl.js")),
     ("check.js", "text/javascript; charset=utf-8", include_str!("pages/check.js")),
     ("report.js", "text/javascript; charset=utf-8", include_str!("pages/report.js")),
     ("icon.svg", "image/svg+xml", include_str!("pages/icon.svg")),

@@ -18,6 +18,8 @@ pub struct Server {
     pub printed: Vec<String>,
     /// Its standard error so far (read on a thread of its own, so that the server never blocks on it).
     stderr: std::sync::Arc<Mutex<String>>,
+    /// That thread, which ends when the server's standard error closes (it has exited).
+    stderr_reader: Option<std::thread::JoinHandle<()>>,
     _turn: MutexGuard<'static, ()>,
 }
 
@@ -63,7 +65,7 @@ impl Server {
         let stderr = std::sync::Arc::new(Mutex::new(String::new()));
         let mut pipe = child.stderr.take().expect("its standard error");
         let kept = stderr.clone();
-        std::thread::spawn(move || {
+        let stderr_reader = std::thread::spawn(move || {
             let mut buffer = [0u8; 4096];
             while let Ok(n) = pipe.read(&mut buffer) {
                 if n == 0 {
@@ -99,7 +101,7 @@ impl Server {
         while let Ok(line) = printed.recv_timeout(Duration::from_millis(200)) {
             rest.push(line);
         }
-        Self { child, address, printed: rest, stderr, _turn: turn }
+        Self { child, address, printed: rest, stderr, stderr_reader: Some(stderr_reader), _turn: turn }
     }
 
     /// A server of the tests' defaults on 127.0.0.1.
@@ -154,6 +156,15 @@ impl Server {
     }
 
     /// Sends SIGTERM.
+    /// Polls `condition` every 20 ms until it holds, failing the test naming `what` after `within`.
+    pub fn wait_for(&self, what: &str, within: Duration, condition: impl Fn(&Self) -> bool) {
+        let started = Instant::now();
+        while !condition(self) {
+            assert!(started.elapsed() < within, "not within {within:?}: {what}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
     pub fn signal_stop(&self) {
         // SAFETY: kill(2) on our own child's pid.
         unsafe {
@@ -175,8 +186,12 @@ impl Server {
             }
             std::thread::sleep(Duration::from_millis(20));
         };
-        // The reading thread sees the pipe close once the server has exited.
-        std::thread::sleep(Duration::from_millis(50));
+        // The reading thread ends when the pipe closes, once the server has exited (and any child of its).
+        if status.is_some() {
+            if let Some(reader) = self.stderr_reader.take() {
+                let _ = reader.join();
+            }
+        }
         let stderr = self.stderr.lock().unwrap_or_else(|p| p.into_inner()).clone();
         (status, stderr, started.elapsed())
     }

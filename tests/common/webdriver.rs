@@ -22,8 +22,14 @@ pub const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
 
 impl Browser {
     /// Starts chromedriver on a free port and a headless browser of `width` x `height` CSS pixels at a
-    /// device scale of 1 (a canvas's pixels are the page's), keeping the console's messages.
+    /// device scale of 1 (a canvas's pixels are the page's), keeping the console's messages. Its WebGL2 is
+    /// SwiftShader's (the CPU), asked for by name: Chromium is removing its automatic fallback to it.
     pub fn start(width: u32, height: u32) -> Self {
+        Self::start_with(width, height, &["--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+    }
+
+    /// A browser as [`Browser::start`]'s with `flags` instead of the WebGL ones (`--disable-webgl`: none).
+    pub fn start_with(width: u32, height: u32, flags: &[&str]) -> Self {
         let port = TcpListener::bind("127.0.0.1:0").and_then(|l| l.local_addr()).expect("a free port").port();
         let driver = Command::new(CHROMEDRIVER)
             .arg(format!("--port={port}"))
@@ -38,13 +44,21 @@ impl Browser {
             std::thread::sleep(Duration::from_millis(50));
         }
         let mut browser = Self { driver, address, session: String::new() };
+        let mut args: Vec<String> = [
+            "--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--force-device-scale-factor=1",
+            "--force-color-profile=srgb", "--no-first-run", "--disable-extensions", "--disable-background-networking",
+            "--disable-component-update",
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect();
+        args.push(format!("--window-size={width},{height}"));
+        args.extend(flags.iter().map(|f| f.to_string()));
         let capabilities = json!({"capabilities": {"alwaysMatch": {
             "browserName": "chrome",
             "goog:chromeOptions": {
                 "binary": CHROMIUM,
-                "args": ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                         format!("--window-size={width},{height}"), "--force-device-scale-factor=1",
-                         "--force-color-profile=srgb", "--no-first-run", "--disable-extensions"],
+                "args": args,
             },
             "goog:loggingPrefs": {"browser": "ALL"},
         }}});
@@ -81,6 +95,25 @@ impl Browser {
     /// Runs `script` (a function body; `arguments` are `args`) in the page and returns its value.
     pub fn run(&self, script: &str, args: &[Value]) -> Value {
         self.session_call("POST", "/execute/sync", &json!({"script": script, "args": args}))
+    }
+
+    /// Sets the window's outer size in CSS pixels.
+    pub fn resize(&self, width: u32, height: u32) {
+        self.session_call("POST", "/window/rect", &json!({"width": width, "height": height}));
+    }
+
+    /// A finger's drag on the element `selector` finds: down at its centre, moved by (dx, dy) in steps, up.
+    pub fn touch_drag(&self, selector: &str, dx: i64, dy: i64) {
+        let element = self.session_call("POST", "/element", &json!({"using": "css selector", "value": selector}));
+        let origin = element.clone();
+        let mut actions = vec![json!({"type": "pointerMove", "duration": 0, "origin": origin, "x": 0, "y": 0}), json!({"type": "pointerDown", "button": 0})];
+        for step in 1..=5 {
+            actions.push(json!({"type": "pointerMove", "duration": 50, "origin": origin, "x": dx * step / 5, "y": dy * step / 5}));
+        }
+        actions.push(json!({"type": "pointerUp", "button": 0}));
+        let finger = json!({"type": "pointer", "id": "finger", "parameters": {"pointerType": "touch"}, "actions": actions});
+        self.session_call("POST", "/actions", &json!({"actions": [finger]}));
+        self.session_call("DELETE", "/actions", &Value::Null);
     }
 
     /// Polls `script` until it returns true, within `within`.

@@ -1,5 +1,6 @@
-// The explore page: the controls of a scene's material, light and camera, and the server's frames of them
-// over a WebSocket (motion frames while a control moves, then the exact still frame).
+// The explore page: the controls of a scene's material, light and camera, and its frames: rendered in the
+// visitor's browser (WebGL2, webgl.js) where the browser and the scene allow, every frame then the exact one;
+// otherwise the server's over a WebSocket (motion frames while a control moves, then the exact still frame).
 "use strict";
 
 const page = {
@@ -10,6 +11,10 @@ const page = {
   sent: 0,         // states sent
   pending: null,   // the header of the frame whose PNG comes next
   frames: [],      // when the last frames arrived, for the rate shown
+  browser: null,   // the browser's renderer (webgl.js), or null
+  noBrowser: "",   // why there is none
+  mode: "server",  // who renders this scene's frames: "browser" or "server"
+  drawing: false,  // a browser frame is asked for the next animation frame
 };
 
 const $ = (id) => document.getElementById(id);
@@ -32,20 +37,86 @@ function request() {
 }
 
 function sendState() {
-  if (!page.socket || page.socket.readyState !== WebSocket.OPEN) return;
+  if (page.mode === "browser") {
+    page.sent += 1;
+    if (!page.drawing) {
+      page.drawing = true;
+      requestAnimationFrame(drawInBrowser);
+    }
+    studiesLater();
+    return;
+  }
+  if (!page.socket) connect();
+  if (page.socket.readyState !== WebSocket.OPEN) return;
   page.sent += 1;
   page.socket.send(JSON.stringify(request()));
   studiesLater();
+}
+
+// The browser's frame of the latest state: the exact image, at the picture's size.
+function drawInBrowser() {
+  page.drawing = false;
+  if (page.mode !== "browser") return;
+  const [width, height] = pictureSize();
+  try {
+    page.browser.render(page.scene, page.set, width, height);
+  } catch (error) {
+    useServer(`your browser could not draw it (${error.message})`);
+    return;
+  }
+  const canvas = $("gl");
+  canvas.dataset.frame = "browser";
+  canvas.dataset.scene = page.scene.id;
+  canvas.dataset.state = String(page.sent);
+  const now = performance.now();
+  page.frames = page.frames.filter((t) => now - t < 1000).concat([now]);
+  $("status").textContent = `rendered by your browser (WebGL2): the exact image, ${width} x ${height}, ${page.frames.length} frames/s`;
+}
+
+// The browser's frame drawn now and its pixels read back (rows from the top, RGBA): for the browser test.
+function browserPixels() {
+  drawInBrowser();
+  return page.browser.pixels();
+}
+
+// The server renders this scene's frames, for `why`.
+function useServer(why) {
+  page.mode = "server";
+  $("gl").hidden = true;
+  $("frame").hidden = false;
+  $("frame").dataset.frame = "none";
+  $("status").textContent = `the server's frames: ${why}`;
+  if (!page.socket) connect();
+  else sendState();
+}
+
+// Who renders the chosen scene: the browser when it can draw it, the server otherwise.
+async function chooseRenderer() {
+  const scene = page.scene;
+  if (!page.browser) return useServer(page.noBrowser);
+  if (scene.browser.unsupported) return useServer(`your browser does not draw ${scene.browser.unsupported} yet`);
+  try {
+    await page.browser.load(scene);
+  } catch (error) {
+    return useServer(`its meshes did not load (${error.message})`);
+  }
+  if (page.scene !== scene) return;
+  page.mode = "browser";
+  $("frame").hidden = true;
+  $("gl").hidden = false;
+  sendState();
 }
 
 function connect() {
   const scheme = location.protocol === "https:" ? "wss:" : "ws:";
   const socket = new WebSocket(`${scheme}//${location.host}/api/explore`);
   socket.binaryType = "blob";
-  socket.onopen = () => { $("status").textContent = "connected"; sendState(); };
+  socket.onopen = () => { if (page.mode === "server") { $("status").textContent = "connected"; sendState(); } };
   socket.onclose = (event) => {
+    page.socket = null;
+    if (page.mode !== "server") return;
     $("status").textContent = `disconnected${event.reason ? ": " + event.reason : ""}; reconnecting...`;
-    setTimeout(connect, 1000);
+    setTimeout(() => { if (!page.socket && page.mode === "server") connect(); }, 1000);
   };
   socket.onmessage = async (event) => {
     if (typeof event.data === "string") {
@@ -56,7 +127,7 @@ function connect() {
     }
     const header = page.pending;
     page.pending = null;
-    if (!header) return;
+    if (!header || page.mode !== "server") return;
     const bitmap = await createImageBitmap(event.data);
     draw(header, bitmap);
   };
@@ -155,16 +226,17 @@ function lightControls() {
   if (page.scene.lights.length === 0) box.append(el("p", { class: "muted", text: "lit by its environment" }));
 }
 
-// Dragging the picture orbits the camera about what it looks at.
-function orbit() {
-  const canvas = $("frame");
+// Dragging the picture (a mouse's or a finger's) orbits the camera about what it looks at.
+function orbit(canvas) {
   let last = null;
   canvas.addEventListener("pointerdown", (event) => {
     last = [event.clientX, event.clientY];
     canvas.setPointerCapture(event.pointerId);
     canvas.classList.add("dragging");
   });
-  canvas.addEventListener("pointerup", () => { last = null; canvas.classList.remove("dragging"); });
+  const release = () => { last = null; canvas.classList.remove("dragging"); };
+  canvas.addEventListener("pointerup", release);
+  canvas.addEventListener("pointercancel", release);
   canvas.addEventListener("pointermove", (event) => {
     if (!last) return;
     const [dx, dy] = [event.clientX - last[0], event.clientY - last[1]];
@@ -220,8 +292,8 @@ function chooseScene(id) {
   objects.replaceChildren(...page.scene.objects.map((o) => el("option", { value: String(o.index), text: `${o.index}: ${o.shape} (${o.material})` })));
   materialControls();
   lightControls();
-  sendState();
   studies();
+  chooseRenderer();
 }
 
 async function download() {
@@ -251,9 +323,10 @@ async function start() {
   $("object").addEventListener("change", () => { materialControls(); studies(); });
   $("reset").addEventListener("click", () => chooseScene(page.scene.id));
   $("download").addEventListener("click", download);
-  orbit();
+  orbit($("frame"));
+  orbit($("gl"));
+  ({ renderer: page.browser, reason: page.noBrowser } = await BrowserRenderer.create($("gl")).catch((error) => ({ renderer: null, reason: error.message })));
   chooseScene(select.value);
-  connect();
 }
 
 start();

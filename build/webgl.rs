@@ -1,0 +1,101 @@
+//! The browser's shaders (WebGL2) made from the very sources the renderer compiles: every entry file under
+//! shaders/ that says `// webgl` is compiled by glslc with WEBGL defined (which swaps what WebGL2 lacks for
+//! what it has: shaders/common/scene.glsl), its SPIR-V translated by SPIRV-Cross to GLSL ES 3.00 (a vertex
+//! shader's Vulkan depth range [0, w] made GL's [-w, w]), and the text checked by glslangValidator.
+//! Specialization constants stay as SPIRV-Cross writes them (`SPIRV_CROSS_CONSTANT_ID_n` macros with their
+//! defaults), which the page defines per program. Used by build.rs, and by the browser test, which translates
+//! shaders broken on purpose to show that its comparison catches them.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The interface locations between stages that the translation renames (see [`translate`]): more than any
+/// entry uses.
+const INTERFACE_LOCATIONS: u32 = 8;
+
+/// Whether a file of shaders/ is an entry shader (a stage's `main`) rather than an included one.
+pub fn is_entry(relative: &str) -> bool {
+    ["vert", "frag", "comp"].iter().any(|stage| relative.ends_with(&format!(".{stage}")))
+}
+
+/// Translates the `// webgl` entries of the shader tree at `root` into `out`: each entry file's name (relative
+/// to `root`) with the file of its GLSL ES 3.00, or the first tool's failure in one line (its own errors on
+/// the standard error). `validate` checks each text with glslangValidator too.
+pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String, PathBuf)>, String> {
+    let mut files = Vec::new();
+    collect(root, &mut files);
+    files.sort();
+    let tool = |variable: &str, default: &str| std::env::var(variable).unwrap_or_else(|_| default.into());
+    let (glslc, spirv_cross, validator) =
+        (tool("GLSLC", "glslc"), tool("SPIRV_CROSS", "spirv-cross"), tool("GLSLANG_VALIDATOR", "glslangValidator"));
+    let mut translated = Vec::new();
+    for file in &files {
+        let relative = file.strip_prefix(root).map_err(|e| e.to_string())?.to_string_lossy().replace('\\', "/");
+        let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+        if !is_entry(&relative) || !text.lines().any(|line| line.trim() == "// webgl") {
+            continue;
+        }
+        let spirv = out.join(format!("{relative}.spv"));
+        // The stage stays the last extension, which glslangValidator reads the stage from.
+        let stage = relative.rsplit('.').next().unwrap_or_default();
+        let es = out.join(format!("{}.es.{stage}", relative.trim_end_matches(&format!(".{stage}"))));
+        std::fs::create_dir_all(spirv.parent().unwrap_or(out)).map_err(|e| format!("{}: {e}", out.display()))?;
+        run(
+            Command::new(&glslc)
+                .current_dir(root)
+                .args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", ".", "-DWEBGL", "-o"])
+                .arg(&spirv)
+                .arg(&relative),
+            &format!("glslc could not compile shaders/{relative} with WEBGL defined (its errors are above)"),
+            "the Debian package glslc",
+        )?;
+        let mut translate = Command::new(&spirv_cross);
+        translate.args(["--es", "--version", "300", "--remove-unused-variables"]);
+        // GLSL ES 3.00 matches a vertex shader's outputs to a fragment shader's inputs by name, not by
+        // location as Vulkan does: each is renamed after its location.
+        let direction = if stage == "vert" { "out" } else { "in" };
+        for location in 0..INTERFACE_LOCATIONS {
+            translate.args(["--rename-interface-variable", direction, &location.to_string(), &format!("location_{location}")]);
+        }
+        if stage == "vert" {
+            translate.arg("--fixup-clipspace");
+        }
+        run(
+            translate.arg("--output").arg(&es).arg(&spirv),
+            &format!("SPIRV-Cross could not translate shaders/{relative} to GLSL ES 3.00 (its errors are above)"),
+            "the Debian package spirv-cross",
+        )?;
+        if validate {
+            run(
+                Command::new(&validator).arg(&es),
+                &format!("the translation of shaders/{relative} is not valid GLSL ES 3.00 (glslangValidator's errors above)"),
+                "the Debian package glslang-tools",
+            )?;
+        }
+        translated.push((relative, es));
+    }
+    Ok(translated)
+}
+
+/// Runs a tool: `failed` when it fails, naming `package` when it is missing.
+fn run(command: &mut Command, failed: &str, package: &str) -> Result<(), String> {
+    let program = command.get_program().to_string_lossy().into_owned();
+    let status = command.status().map_err(|e| format!("cannot run {program} ({e}): install {package} (`make setup`)"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(failed.to_string())
+    }
+}
+
+/// Every file under `dir`, its subfolders' too.
+pub fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            collect(&path, files);
+        } else {
+            files.push(path);
+        }
+    }
+}

@@ -1,0 +1,208 @@
+//! What the explore page needs to render a scene in the visitor's browser (WebGL2) instead of on the
+//! server: the renderer's own shaders translated at build time (build.rs: glslc with WEBGL defined, then
+//! SPIRV-Cross to GLSL ES 3.00, checked by glslangValidator), each catalogue scene's data as the renderer
+//! uploads it (its objects' matrices and flags, its materials, its lights, and the frame and shadow views of
+//! the scene as its file says, against which the page's own are checked), and its meshes' vertices. The page
+//! computes what its controls change (the camera's matrices, the lights, the materials' parameters) and
+//! draws; the server only hands out these files.
+
+use std::collections::BTreeMap;
+use std::sync::{Arc, LazyLock};
+
+use axum::extract::{Query, State};
+use axum::http::{header, StatusCode};
+use axum::response::{IntoResponse, Response};
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value as Json};
+
+use vk_render::brdf::Brdf;
+use vk_render::render::gpu_types::{GpuFrame, GpuMaterial, GpuObject};
+use vk_render::render::{cube_face_views, NEAR_PLANE};
+use vk_render::scene::{Encoding, Tonemap, View};
+use vk_render::Scene;
+
+use super::catalogue::Entry;
+use super::error::ApiError;
+use super::App;
+
+/// The browser's shaders: (entry file under shaders/, its GLSL ES 3.00), made by build.rs.
+const SHADERS: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/webgl.rs"));
+
+/// `GET /static/shaders.json`: every translated shader by its entry file's name, one JSON object.
+pub async fn shaders() -> Response {
+    static TEXT: LazyLock<String> = LazyLock::new(|| {
+        let table: BTreeMap<&str, &str> = SHADERS.iter().copied().collect();
+        serde_json::to_string(&table).unwrap_or_default()
+    });
+    ([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "no-cache")], TEXT.as_str()).into_response()
+}
+
+/// A scene as the browser draws it (`GET /api/scenes`, each scene's `browser`).
+#[derive(Serialize)]
+pub struct BrowserScene {
+    /// Why the browser cannot draw this scene (the server then renders its frames, and the page says why).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unsupported: Option<String>,
+    /// The factor the radiance is multiplied by before the course's clamp.
+    pub exposure: f32,
+    /// The image's background, linear rgb and alpha 1 (the frame's `background`).
+    pub background: [f32; 4],
+    /// Texels on a side of each face of a light's shadow cube.
+    pub shadow_map_size: u32,
+    /// shading.glsl's `SHADOW_FILTER`: 0 hard, 1 PCF.
+    pub shadow_filter: u32,
+    /// The projection's near plane (the renderer's).
+    pub near: f32,
+    /// Whether each light casts shadows, in the scene's order.
+    pub shadows: Vec<bool>,
+    pub objects: Vec<BrowserObject>,
+    /// Each material's `Material` (shaders/common/material.glsl) as the scene file sets it, by name.
+    pub materials: BTreeMap<String, Json>,
+    /// The frame's data for the scene as its file says it, at the file's size: the page computes its own
+    /// (the camera moves) and the browser test holds them equal.
+    pub frame: Json,
+    /// Each light's six shadow views (view-projections, column-major), likewise.
+    pub shadow_views: Vec<Vec<[f32; 16]>>,
+}
+
+/// One object: its `ObjectData` but for the material (named), and how it is drawn.
+#[derive(Serialize)]
+pub struct BrowserObject {
+    /// Drawn as an exact sphere (forward_sphere.frag) over its bounding mesh.
+    pub sphere: bool,
+    pub casts_shadow: bool,
+    pub material: String,
+    /// Object to world, column-major.
+    pub model: [f32; 16],
+    /// Its inverse transpose.
+    pub normal_matrix: [f32; 16],
+    /// `ObjectData.flags`.
+    pub flags: [u32; 4],
+}
+
+/// What the browser cannot draw yet, or None: the scene's environment, its measured and analytic
+/// materials, another output transform than the course's, and the term views.
+fn unsupported(scene: &Scene) -> Option<String> {
+    if scene.environment.is_some() {
+        return Some("its environment light".into());
+    }
+    if let Some((name, brdf)) =
+        scene.materials.iter().find(|(_, brdf)| matches!(brdf, Brdf::Measured(_) | Brdf::Analytic(_)))
+    {
+        return Some(format!("material {name} ({})", brdf.name()));
+    }
+    if scene.image.tonemap != Tonemap::Clamp || scene.image.encoding != Encoding::Linear {
+        return Some("an output transform other than the course's (clamp, linear)".into());
+    }
+    if scene.image.view != View::Radiance {
+        return Some("a term view".into());
+    }
+    None
+}
+
+fn columns(m: [[f32; 4]; 4]) -> [f32; 16] {
+    let mut out = [0.0; 16];
+    for (k, column) in m.iter().enumerate() {
+        out[4 * k..4 * k + 4].copy_from_slice(column);
+    }
+    out
+}
+
+fn material(brdf: &Brdf) -> Json {
+    let m = GpuMaterial::of_parameters(brdf);
+    json!({
+        "kd": m.kd, "ks": m.ks, "f0": m.f0, "brdf": m.brdf, "shininess": m.shininess, "sigma": m.sigma,
+        "roughness": m.roughness, "metalness": m.metalness, "diffuse": m.diffuse,
+    })
+}
+
+/// The browser's data of `entry`'s scene (its meshes are fetched apart: [`mesh`]).
+pub fn describe(entry: &Entry) -> BrowserScene {
+    let scene = &entry.scene;
+    let placed = vk_render::mesh::place_objects(scene).unwrap_or_default();
+    let objects = scene
+        .objects
+        .iter()
+        .zip(&placed)
+        .map(|(object, placed)| {
+            let data = GpuObject::placed(object, placed.model);
+            BrowserObject {
+                sphere: placed.exact_sphere,
+                casts_shadow: placed.casts_shadow,
+                material: object.material.clone(),
+                model: columns(data.model),
+                normal_matrix: columns(data.normal_matrix),
+                flags: data.flags,
+            }
+        })
+        .collect();
+    let frame = GpuFrame::new(&scene.camera, &scene.image, NEAR_PLANE);
+    BrowserScene {
+        unsupported: unsupported(scene),
+        exposure: scene.image.exposure,
+        background: frame.background,
+        shadow_map_size: scene.image.shadow_map_size,
+        shadow_filter: u32::from(scene.image.shadow_filter != vk_render::scene::ShadowFilter::Hard),
+        near: NEAR_PLANE,
+        shadows: scene.lights.iter().map(|l| l.shadows).collect(),
+        objects,
+        materials: scene.materials.iter().map(|(name, brdf)| (name.clone(), material(brdf))).collect(),
+        frame: json!({
+            "view_projection": columns(frame.view_projection),
+            "pixel_rays": columns(frame.pixel_rays),
+            "camera_position": frame.camera_position,
+            "shadow_texel_angle": frame.shadow_texel_angle,
+        }),
+        shadow_views: scene
+            .lights
+            .iter()
+            .map(|light| cube_face_views(light.position, NEAR_PLANE).iter().map(|m| m.to_cols_array()).collect())
+            .collect(),
+    }
+}
+
+#[derive(Deserialize)]
+pub struct MeshQuery {
+    scene: String,
+    object: usize,
+}
+
+/// `GET /api/mesh?scene=ID&object=N`: the vertices and triangles the renderer draws for that object (a
+/// sphere's bounding mesh, the plane's fan to infinity, an OBJ's mesh), little-endian: the vertex count and
+/// the index count (u32 each), then each vertex's position (4 floats, homogeneous), normal (3) and tangent
+/// (3), then the indices (u32).
+pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -> Result<Response, ApiError> {
+    let entry = app
+        .catalogue
+        .get(&query.scene)
+        .ok_or_else(|| ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: no such scene", query.scene)))?;
+    let scene = entry.scene.clone();
+    let object = query.object;
+    let id = entry.id.clone();
+    // An OBJ is read from disk (once per process): off the async threads.
+    let bytes = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, ApiError> {
+        let placed = vk_render::mesh::place_objects(&scene).map_err(|e| ApiError::from_library(&e))?;
+        let mesh = &placed
+            .get(object)
+            .ok_or_else(|| {
+                ApiError::new(StatusCode::NOT_FOUND, format!("scene {id}: object {object}: no such object"))
+            })?
+            .mesh;
+        let mut bytes = Vec::with_capacity(8 + mesh.vertices.len() * 40 + mesh.indices.len() * 4);
+        bytes.extend((mesh.vertices.len() as u32).to_le_bytes());
+        bytes.extend((mesh.indices.len() as u32).to_le_bytes());
+        for vertex in &mesh.vertices {
+            for value in vertex.position.iter().chain(&vertex.normal).chain(&vertex.tangent) {
+                bytes.extend(value.to_le_bytes());
+            }
+        }
+        for index in &mesh.indices {
+            bytes.extend(index.to_le_bytes());
+        }
+        Ok(bytes)
+    })
+    .await
+    .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("the mesh's task failed: {e}")))??;
+    Ok(([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes)
+        .into_response())
+}

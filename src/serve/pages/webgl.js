@@ -1,0 +1,401 @@
+// The explore page's renderer in the visitor's browser (WebGL2): the renderer's own shaders, translated to
+// GLSL ES 3.00 when vk-render was built (GET /static/shaders.json), drawn in the renderer's passes: each
+// shadow-casting light's cube (six layers of a float array texture), the forward pass into a float target
+// at one sample a pixel, and the resolve to the course's 8-bit levels on the canvas. What the controls change
+// is computed here as the renderer computes it; each function below names the Rust it mirrors, and the
+// browser test holds the frame and shadow views it makes to the server's (tests/serve_browser.rs).
+"use strict";
+
+// The uniform blocks' bindings, and their sizes in bytes (std140 as shaders/common/scene.glsl declares them).
+const BLOCKS = { Frame: [0, 192], Lights: [1, 16 * 48], Objects: [2, 224], ShadowViews: [3, 96 * 64] };
+// shadow.frag's FAR_AWAY: what a shadow texel holds where nothing is.
+const FAR_AWAY = 3.0e38;
+
+// ---- The renderer's host-side math (src/render/gpu_types.rs, src/render/shadow.rs, glam's cameras) ----
+
+const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+const scale = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
+const normalize = (a) => scale(a, 1 / Math.sqrt(dot(a, a)));
+
+// Column-major 4 x 4 product a * b.
+function multiply(a, b) {
+  const out = new Array(16).fill(0);
+  for (let c = 0; c < 4; c++) {
+    for (let r = 0; r < 4; r++) {
+      let sum = 0;
+      for (let k = 0; k < 4; k++) sum += a[4 * k + r] * b[4 * c + k];
+      out[4 * c + r] = sum;
+    }
+  }
+  return out;
+}
+
+// glam's camera::rh::view::look_at_mat4: world to a right-handed view looking down -z.
+function lookAt(eye, center, up) {
+  const f = normalize(sub(center, eye));
+  const s = normalize(cross(f, up));
+  const u = cross(s, f);
+  return [s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0, -dot(s, eye), -dot(u, eye), dot(f, eye), 1];
+}
+
+// glam's perspective_infinite_reverse: depth near / distance; Vulkan's (flipY, GpuFrame::new) turns y over.
+function perspectiveInfiniteReverse(fovY, aspect, near, flipY) {
+  const f = 1 / Math.tan(0.5 * fovY);
+  return [f / aspect, 0, 0, 0, 0, flipY ? -f : f, 0, 0, 0, 0, 0, -1, 0, 0, near, 0];
+}
+
+// PixelRays::new: the camera's ray through framebuffer position (x, y) is pixel_rays * (x, y, 1, 0).
+function pixelRays(camera, width, height) {
+  const w = normalize(sub(camera.position, camera.look_at));
+  const u = normalize(cross(camera.up, w));
+  const v = cross(w, u);
+  const halfHeight = Math.tan((camera.fov_y * Math.PI) / 180 * 0.5);
+  const halfWidth = (halfHeight * width) / height;
+  const corner = sub(sub(scale(v, halfHeight), scale(u, halfWidth)), w);
+  return [...scale(u, (2 * halfWidth) / width), 0, ...scale(v, (-2 * halfHeight) / height), 0, ...corner, 0, 0, 0, 0, 0];
+}
+
+// GpuFrame::new's matrices for the camera and the image's size.
+function frameData(camera, width, height, near) {
+  const projection = perspectiveInfiniteReverse((camera.fov_y * Math.PI) / 180, width / height, near, true);
+  return {
+    view_projection: multiply(projection, lookAt(camera.position, camera.look_at, camera.up)),
+    pixel_rays: pixelRays(camera, width, height),
+    camera_position: [...camera.position, 1],
+  };
+}
+
+// cube_face_views (src/render/shadow.rs): each face of a light's cube, in Vulkan's order, y up.
+function cubeFaceViews(light, near) {
+  const projection = perspectiveInfiniteReverse(Math.PI / 2, 1, near, false);
+  const faces = [[[1, 0, 0], [0, -1, 0]], [[-1, 0, 0], [0, -1, 0]], [[0, 1, 0], [0, 0, 1]],
+    [[0, -1, 0], [0, 0, -1]], [[0, 0, 1], [0, -1, 0]], [[0, 0, -1], [0, -1, 0]]];
+  return faces.map(([forward, up]) => multiply(projection, lookAt(light, [0, 1, 2].map((k) => light[k] + forward[k]), up)));
+}
+
+// ---- The scene's state: its description with the page's overrides (the `--set` keys the controls make) ----
+
+// The camera, lights and materials of `scene` (GET /api/scenes) with `set` applied, as Scene::parse applies
+// the same keys: a material's parameters by name, a light's power and position, the camera's position.
+function sceneState(scene, set) {
+  const value = (key, base) => (key in set ? set[key] : base);
+  const camera = { ...scene.camera, position: value("camera.position", scene.camera.position) };
+  const lights = scene.lights.map((light) => ({
+    position: value(`light.${light.index}.position`, light.position),
+    power: value(`light.${light.index}.power`, light.power),
+    color: light.color,
+  }));
+  const materials = {};
+  for (const [name, base] of Object.entries(scene.browser.materials)) {
+    const material = { ...base };
+    for (const parameter of scene.materials[name].parameters) {
+      if (parameter.key in set) {
+        const v = set[parameter.key];
+        material[parameter.name] = Array.isArray(v) ? [...v, 0] : typeof v === "number" && ["kd", "ks", "f0"].includes(parameter.name) ? [v, v, v, 0] : v;
+      }
+    }
+    materials[name] = material;
+  }
+  return { camera, lights, materials };
+}
+
+// ---- WebGL2 ----
+
+class BrowserRenderer {
+  // A renderer on `canvas`, or null with the reason when the browser cannot (no WebGL2, no float targets).
+  static async create(canvas) {
+    const gl = canvas.getContext("webgl2", { antialias: false, depth: false, alpha: false, preserveDrawingBuffer: false });
+    if (!gl) return { renderer: null, reason: "this browser has no WebGL2" };
+    if (!gl.getExtension("EXT_color_buffer_float")) return { renderer: null, reason: "this browser's WebGL2 cannot render to float targets" };
+    const shaders = await getJson("/static/shaders.json");
+    return { renderer: new BrowserRenderer(gl, shaders), reason: null };
+  }
+
+  constructor(gl, shaders) {
+    this.gl = gl;
+    this.shaders = shaders;
+    this.programs = new Map();
+    this.meshes = new Map();
+    this.blocks = {};
+    for (const [name, [binding, size]] of Object.entries(BLOCKS)) {
+      const buffer = gl.createBuffer();
+      gl.bindBuffer(gl.UNIFORM_BUFFER, buffer);
+      gl.bufferData(gl.UNIFORM_BUFFER, size, gl.DYNAMIC_DRAW);
+      this.blocks[name] = { buffer, binding, size };
+    }
+    const alignment = gl.getParameter(gl.UNIFORM_BUFFER_OFFSET_ALIGNMENT);
+    this.objectStride = Math.ceil(BLOCKS.Objects[1] / alignment) * alignment;
+    this.objects = gl.createBuffer();
+    this.shadowKey = null;
+    this.emptyVertexArray = gl.createVertexArray();
+  }
+
+  // The program of a vertex and a fragment shader with its specialization constants (SPIRV-Cross's
+  // SPIRV_CROSS_CONSTANT_ID_n macros, defined before its default), compiled once.
+  program(vertex, fragment, constants) {
+    const key = `${vertex}|${fragment}|${JSON.stringify(constants)}`;
+    if (this.programs.has(key)) return this.programs.get(key);
+    const gl = this.gl;
+    const defines = Object.entries(constants).map(([id, v]) => `#define SPIRV_CROSS_CONSTANT_ID_${id} ${v}\n`).join("");
+    const compile = (type, name) => {
+      const text = this.shaders[name];
+      if (!text) throw new Error(`no translated shader ${name}`);
+      const shader = gl.createShader(type);
+      gl.shaderSource(shader, text.replace(/^(#version 300 es\n)/, `$1${defines}`));
+      gl.compileShader(shader);
+      if (!gl.getShaderParameter(shader, gl.COMPILE_STATUS)) throw new Error(`${name}: ${gl.getShaderInfoLog(shader)}`);
+      return shader;
+    };
+    const program = gl.createProgram();
+    gl.attachShader(program, compile(gl.VERTEX_SHADER, vertex));
+    gl.attachShader(program, compile(gl.FRAGMENT_SHADER, fragment));
+    gl.bindAttribLocation(program, 0, "in_position");
+    gl.bindAttribLocation(program, 1, "in_normal");
+    gl.bindAttribLocation(program, 2, "in_tangent");
+    gl.linkProgram(program);
+    if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(`${vertex} + ${fragment}: ${gl.getProgramInfoLog(program)}`);
+    for (const [name, { binding }] of Object.entries(this.blocks)) {
+      const index = gl.getUniformBlockIndex(program, name);
+      if (index !== gl.INVALID_INDEX) gl.uniformBlockBinding(program, index, binding);
+    }
+    gl.useProgram(program);
+    // Texture units: the shadow cubes 0, the measured tables 1, the resolve's colour 0.
+    for (const [name, unit] of [["shadow_maps", 0], ["measured_tables", 1], ["colour", 0]]) {
+      const location = gl.getUniformLocation(program, name);
+      if (location) gl.uniform1i(location, unit);
+    }
+    const uniform = (name) => gl.getUniformLocation(program, name);
+    const entry = { program, object: uniform("draw.object_index"), light: uniform("draw.light_index"), face: uniform("draw.face"), exposure: uniform("resolve.exposure") };
+    this.programs.set(key, entry);
+    return entry;
+  }
+
+  // The scene's meshes (GET /api/mesh), each as a vertex array: position (4 floats), normal (3), tangent (3).
+  async load(scene) {
+    const gl = this.gl;
+    for (const object of scene.objects) {
+      const url = `/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${object.index}`;
+      if (this.meshes.has(url)) continue;
+      const response = await fetch(url);
+      if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
+      const bytes = await response.arrayBuffer();
+      const [vertices, indices] = new Uint32Array(bytes, 0, 2);
+      const vertexArray = gl.createVertexArray();
+      gl.bindVertexArray(vertexArray);
+      const vertexBuffer = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, vertexBuffer);
+      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(bytes, 8, vertices * 10), gl.STATIC_DRAW);
+      [[0, 4, 0], [1, 3, 16], [2, 3, 28]].forEach(([location, size, offset]) => {
+        gl.enableVertexAttribArray(location);
+        gl.vertexAttribPointer(location, size, gl.FLOAT, false, 40, offset);
+      });
+      const indexBuffer = gl.createBuffer();
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indexBuffer);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(bytes, 8 + vertices * 40, indices), gl.STATIC_DRAW);
+      gl.bindVertexArray(null);
+      this.meshes.set(url, { vertexArray, count: indices, url });
+    }
+    this.scene = scene;
+    this.shadowKey = null;
+  }
+
+  mesh(scene, index) {
+    return this.meshes.get(`/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${index}`);
+  }
+
+  write(block, floats) {
+    const gl = this.gl;
+    gl.bindBuffer(gl.UNIFORM_BUFFER, this.blocks[block].buffer);
+    gl.bufferSubData(gl.UNIFORM_BUFFER, 0, floats);
+    gl.bindBufferBase(gl.UNIFORM_BUFFER, this.blocks[block].binding, this.blocks[block].buffer);
+  }
+
+  // The Lights block (GpuPointLight::new): position, colour * power, and the light's cube (every face drawn).
+  writeLights(state, shadows) {
+    const data = new ArrayBuffer(BLOCKS.Lights[1]);
+    const floats = new Float32Array(data);
+    const ints = new Int32Array(data);
+    let cube = 0;
+    state.lights.forEach((light, k) => {
+      floats.set([...light.position, 1], 12 * k);
+      floats.set([...scale(light.color, light.power), 0], 12 * k + 4);
+      ints.set(shadows[k] ? [cube++, 63, 0, 0] : [-1, 0, 0, 0], 12 * k + 8);
+    });
+    this.write("Lights", new Uint8Array(data));
+  }
+
+  // Every object's ObjectData (GpuObject), each at its aligned place in one buffer.
+  writeObjects(scene, state) {
+    const gl = this.gl;
+    const data = new ArrayBuffer(this.objectStride * scene.browser.objects.length);
+    scene.browser.objects.forEach((object, k) => {
+      const base = this.objectStride * k;
+      const floats = new Float32Array(data, base, 56);
+      const uints = new Uint32Array(data, base, 56);
+      const m = state.materials[object.material];
+      floats.set(object.model, 0);
+      floats.set(object.normal_matrix, 16);
+      floats.set(m.kd, 32);
+      floats.set(m.ks, 36);
+      floats.set(m.f0, 40);
+      uints[44] = m.brdf;
+      floats.set([m.shininess, m.sigma, m.roughness, m.metalness], 45);
+      uints.set([m.diffuse, 0, 0], 49);
+      uints.set(object.flags, 52);
+    });
+    gl.bindBuffer(gl.UNIFORM_BUFFER, this.objects);
+    gl.bufferData(gl.UNIFORM_BUFFER, data, gl.DYNAMIC_DRAW);
+  }
+
+  bindObject(k) {
+    const gl = this.gl;
+    gl.bindBufferRange(gl.UNIFORM_BUFFER, BLOCKS.Objects[0], this.objects, this.objectStride * k, BLOCKS.Objects[1]);
+  }
+
+  // A target: a texture of `format` (or a layer of an array texture) with a float depth buffer.
+  framebuffer(width, height) {
+    const gl = this.gl;
+    if (this.depth && this.depth.width === width && this.depth.height === height) return this.depth.renderbuffer;
+    if (this.depth) gl.deleteRenderbuffer(this.depth.renderbuffer);
+    const renderbuffer = gl.createRenderbuffer();
+    gl.bindRenderbuffer(gl.RENDERBUFFER, renderbuffer);
+    gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH_COMPONENT32F, width, height);
+    this.depth = { renderbuffer, width, height };
+    return renderbuffer;
+  }
+
+  // Every shadow-casting light's cube, each face a layer (6 cube + face) of one R32F array texture.
+  drawShadows(scene, state) {
+    const gl = this.gl;
+    const size = scene.browser.shadow_map_size;
+    const casting = scene.browser.shadows.map((s, k) => (s ? k : -1)).filter((k) => k >= 0);
+    const layers = Math.max(1, 6 * casting.length);
+    if (!this.shadowMaps || this.shadowMaps.size !== size || this.shadowMaps.layers !== layers) {
+      if (this.shadowMaps) gl.deleteTexture(this.shadowMaps.texture);
+      const texture = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D_ARRAY, texture);
+      gl.texStorage3D(gl.TEXTURE_2D_ARRAY, 1, gl.R32F, size, size, layers);
+      for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D_ARRAY, p, gl.NEAREST);
+      this.shadowMaps = { texture, size, layers };
+    }
+    const views = new Float32Array(BLOCKS.ShadowViews[1] / 4);
+    casting.forEach((k, cube) => cubeFaceViews(state.lights[k].position, scene.browser.near).forEach((m, face) => views.set(m, 16 * (6 * cube + face))));
+    this.write("ShadowViews", views);
+    const framebuffer = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.framebuffer(size, size));
+    gl.viewport(0, 0, size, size);
+    casting.forEach((k, cube) => {
+      for (let face = 0; face < 6; face++) {
+        gl.framebufferTextureLayer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, this.shadowMaps.texture, 0, 6 * cube + face);
+        gl.clearBufferfv(gl.COLOR, 0, [FAR_AWAY, 0, 0, 0]);
+        gl.clearBufferfv(gl.DEPTH, 0, [0]);
+        scene.browser.objects.forEach((object, index) => {
+          if (!object.casts_shadow) return;
+          const entry = this.program("shadow.vert", object.sphere ? "shadow_sphere.frag" : "shadow.frag", {});
+          gl.useProgram(entry.program);
+          gl.uniform1ui(entry.object, 0);
+          gl.uniform1ui(entry.light, k);
+          gl.uniform1ui(entry.face, face);
+          this.drawMesh(scene, index);
+        });
+      }
+    });
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.deleteFramebuffer(framebuffer);
+  }
+
+  drawMesh(scene, index) {
+    const gl = this.gl;
+    const mesh = this.mesh(scene, index);
+    this.bindObject(index);
+    gl.bindVertexArray(mesh.vertexArray);
+    gl.drawElements(gl.TRIANGLES, mesh.count, gl.UNSIGNED_INT, 0);
+    gl.bindVertexArray(null);
+  }
+
+  // Draws `scene` with the page's overrides `set` at width x height onto the canvas.
+  render(scene, set, width, height) {
+    const gl = this.gl;
+    const canvas = gl.canvas;
+    if (canvas.width !== width || canvas.height !== height) [canvas.width, canvas.height] = [width, height];
+    const state = sceneState(scene, set);
+    const browser = scene.browser;
+    gl.enable(gl.DEPTH_TEST);
+    gl.depthFunc(gl.GEQUAL);  // reverse-Z, as the renderer's GREATER_OR_EQUAL (src/render/passes.rs)
+    gl.disable(gl.CULL_FACE);
+    this.writeLights(state, browser.shadows);
+    this.writeObjects(scene, state);
+    const shadowKey = JSON.stringify([scene.id, state.lights.map((l) => l.position)]);
+    if (shadowKey !== this.shadowKey) {
+      this.drawShadows(scene, state);
+      this.shadowKey = shadowKey;
+    }
+    // The frame (GpuFrame::new).
+    const frame = new ArrayBuffer(BLOCKS.Frame[1]);
+    const f = new Float32Array(frame);
+    const camera = frameData(state.camera, width, height, browser.near);
+    f.set(camera.view_projection, 0);
+    f.set(camera.pixel_rays, 16);
+    f.set(camera.camera_position, 32);
+    f.set(browser.background, 36);
+    f[40] = 2 / browser.shadow_map_size;
+    f.set([1, 0, 0, 0], 44);
+    this.write("Frame", new Uint8Array(frame));
+    this.lastFrame = camera;
+    // The forward pass into a float target, one sample a pixel.
+    if (!this.colour || this.colour.width !== width || this.colour.height !== height) {
+      if (this.colour) gl.deleteTexture(this.colour.texture);
+      const texture = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D, texture);
+      gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA32F, width, height);
+      for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+      this.colour = { texture, width, height };
+    }
+    const framebuffer = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.colour.texture, 0);
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.framebuffer(width, height));
+    gl.viewport(0, 0, width, height);
+    gl.clearBufferfv(gl.COLOR, 0, browser.background);
+    gl.clearBufferfv(gl.DEPTH, 0, [0]);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D_ARRAY, this.shadowMaps.texture);
+    browser.objects.forEach((object, index) => {
+      const material = state.materials[object.material];
+      // The pipeline's constants (PipelineKey::for_object): BRDF, shadow filter, lights, diffuse lobe.
+      const constants = { 0: `${material.brdf}u`, 1: `${browser.shadow_filter}u`, 2: `${state.lights.length}u`, 3: `${material.diffuse}u` };
+      const entry = object.sphere
+        ? this.program("forward_sphere.vert", "forward_sphere.frag", constants)
+        : this.program("forward.vert", "forward.frag", constants);
+      gl.useProgram(entry.program);
+      gl.uniform1ui(entry.object, 0);
+      this.drawMesh(scene, index);
+    });
+    // The resolve onto the canvas.
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.deleteFramebuffer(framebuffer);
+    gl.disable(gl.DEPTH_TEST);
+    const resolve = this.program("background.vert", "web/resolve.frag", {});
+    gl.useProgram(resolve.program);
+    gl.uniform1f(resolve.exposure, browser.exposure);
+    gl.bindTexture(gl.TEXTURE_2D_ARRAY, null);
+    gl.bindTexture(gl.TEXTURE_2D, this.colour.texture);
+    gl.bindVertexArray(this.emptyVertexArray);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    gl.bindVertexArray(null);
+  }
+
+  // The canvas's pixels as the image's rows from the top (R, G, B, A each), read before it is shown.
+  pixels() {
+    const gl = this.gl;
+    const [width, height] = [gl.canvas.width, gl.canvas.height];
+    const bottomUp = new Uint8Array(width * height * 4);
+    gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, bottomUp);
+    const rows = new Uint8Array(bottomUp.length);
+    for (let y = 0; y < height; y++) rows.set(bottomUp.subarray((height - 1 - y) * width * 4, (height - y) * width * 4), y * width * 4);
+    return rows;
+  }
+}
