@@ -84,6 +84,9 @@ exec unshare --mount --propagation private /bin/bash -euo pipefail -c '
     bind "$cargo_home"
     bind "$rustup_home"
     cp -L /etc/resolv.conf "$root/etc/resolv.conf"
+    # debootstrap writes no /etc/hosts: without it "localhost" is not this machine inside, and chromedriver
+    # (which reaches the browser at ws://localhost:PORT) cannot start a session.
+    cp -L /etc/hosts "$root/etc/hosts"
     # pip inside (the pyrender benchmark) trusts what this machine trusts: a network may inspect TLS with
     # its own authority, which the root'"'"'s Debian bundle does not hold.
     cp -L /etc/ssl/certs/ca-certificates.crt "$root/etc/ssl/certs/host-ca-certificates.crt"
