@@ -76,8 +76,9 @@ bench-fit: setup
 	$(CARGO) bench --locked --bench fit
 
 ## bench-serve: `vk-render serve` under load in one run: the explore page's frames, a check through the API
-## against `vk-render check`, 50 clients for a minute (benches/serve.rs)
-bench-serve: setup
+## against `vk-render check`, 50 clients for a minute, the page drawing in headless Chromium (first frame,
+## frames a second), 500 simulated explorers for a minute (benches/serve.rs)
+bench-serve: setup-test
 	$(CARGO) bench --locked --bench serve
 
 ## bench-peer: vk-render against pyrender (OpenGL on the same Mesa) on the same scenes, in one run, as ratios

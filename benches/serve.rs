@@ -6,11 +6,23 @@
 //! 2. a check through the API against `vk-render check` on the same file, each the whole of it (the request;
 //!    the process), taking turns, medians and their ratio (mark: at most 1.3);
 //! 3. 50 clients for a minute, 40 asking for frames and 10 for checks: requests answered, 503s, p50 and p99
-//!    latency of the answered ones, the server's peak memory, and every accepted check's report fetched.
+//!    latency of the answered ones, the server's peak memory, and every accepted check's report fetched;
+//! 4. the explore page drawing in the browser (headless Chromium, SwiftShader's WebGL2 on the CPU) at
+//!    600 x 400: the time from opening the page to its first frame, the shaders' compilation included, and
+//!    frames a second while a control moves, for Figure 1, Figure 3 and the bunny (mark: 20);
+//! 5. 500 simulated explorers for a minute, each loading the page and its files once, then moving a control
+//!    as a person does (a change every 50 ms for 2 s, then a second's rest), asking the server for what the
+//!    page asks it (the lobe and the albedo once a material's control rests; nothing for the frames, which
+//!    the browser draws): requests refused, p50 and p99, the server's peak memory and CPU time (mark: none
+//!    refused).
 
 #[allow(dead_code)] // the tests' client, of which the benchmark uses a part
 #[path = "../tests/common/server.rs"]
 mod server;
+
+#[allow(dead_code)] // the browser tests' WebDriver client
+#[path = "../tests/common/webdriver.rs"]
+mod webdriver;
 
 use std::net::TcpStream;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -236,6 +248,169 @@ fn load(server: &Server, student: &std::path::Path) {
     );
 }
 
+/// The explore page drawing in the browser: for each scene, the time from opening the page to its first
+/// frame, and frames a second while a material's control moves (each frame finished before the next
+/// animation frame is asked for, as the page draws them).
+fn browser_frames(server: &Server) {
+    let browser = webdriver::Browser::start(1500, 1000);
+    for (id, key, low, high) in [
+        ("fig1-lambert", "material.grey.kd", 0.2, 0.9),
+        ("fig3-plastic-s-16", "material.plastic.shininess", 4.0, 64.0),
+        ("fig5-golden-bunny", "material.gold.roughness", 0.1, 0.8),
+    ] {
+        browser.open(&format!("http://{}/explore?scene={id}", server.loopback()));
+        browser.wait_for(
+            "the first frame",
+            "return page.mode === 'browser' && page.firstFrame !== undefined;",
+            Duration::from_secs(120),
+        );
+        let first = browser.run("return page.firstFrame;", &[]).as_f64().expect("a time");
+        let moving = browser.run_async(
+            "const [key, low, high, done] = arguments;
+             const gl = page.browser.gl;
+             let frames = 0;
+             const start = performance.now();
+             function step() {
+               const now = performance.now();
+               if (now - start >= 3000) { done({frames, seconds: (now - start) / 1000, size: pictureSize()}); return; }
+               const v = low + (high - low) * (0.5 + 0.5 * Math.sin(frames / 10));
+               page.set[key] = key.endsWith('.kd') ? [v, v, v] : v;
+               drawInBrowser();
+               gl.finish();
+               frames += 1;
+               requestAnimationFrame(step);
+             }
+             requestAnimationFrame(step);",
+            &[json!(key), json!(low), json!(high)],
+        );
+        let frames = moving["frames"].as_f64().expect("frames") / moving["seconds"].as_f64().expect("seconds");
+        println!(
+            "in the browser, {id} at {} x {}: first frame {:.0} ms after opening the page (shaders compiled, meshes              loaded, shadows drawn); {frames:.1} frames a second while {key} moves (mark: 20)",
+            moving["size"][0], moving["size"][1], first
+        );
+    }
+}
+
+/// The server's CPU time so far (user and system), from /proc.
+fn cpu_seconds(server: &Server) -> f64 {
+    let stat = std::fs::read_to_string(format!("/proc/{}/stat", server.child.id())).unwrap_or_default();
+    // The fields after the command's closing parenthesis: utime and stime are the 12th and 13th.
+    let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or_default().split_whitespace().collect();
+    let ticks: f64 = [11, 12].iter().filter_map(|&k| fields.get(k)?.parse::<f64>().ok()).sum();
+    // SAFETY: sysconf reads a constant of the system.
+    ticks / unsafe { libc::sysconf(libc::_SC_CLK_TCK) } as f64
+}
+
+/// What the explorers saw, by kind of request.
+#[derive(Default)]
+struct Explorers {
+    /// (kind, latency) of every answered request.
+    answered: Vec<(&'static str, Duration)>,
+    /// (kind, status or 0 for a connection refused or broken) of every refused one.
+    refused: Vec<(&'static str, u16)>,
+}
+
+/// 500 simulated explorers for a minute (see the module's documentation).
+fn explorers(server: &Server) {
+    const COUNT: usize = 500;
+    let address = server.loopback();
+    let seen = Arc::new(Mutex::new(Explorers::default()));
+    let stop = Arc::new(AtomicBool::new(false));
+    let cpu_before = cpu_seconds(server);
+    let started = Instant::now();
+    // A refused connection is counted, not a failure of the benchmark: the client's panic is caught.
+    std::panic::set_hook(Box::new(|_| {}));
+    let explorers: Vec<_> = (0..COUNT)
+        .map(|k| {
+            let (seen, stop) = (seen.clone(), stop.clone());
+            std::thread::spawn(move || {
+                let ask = |kind: &'static str, method: &str, path: &str, body: &[u8]| {
+                    let began = Instant::now();
+                    let answer = std::panic::catch_unwind(|| {
+                        server::request(address, method, path, &[("Content-Type", "application/json")], body)
+                    });
+                    let mut seen = seen.lock().unwrap_or_else(|p| p.into_inner());
+                    match answer {
+                        Ok(answer) if answer.status == 200 => seen.answered.push((kind, began.elapsed())),
+                        Ok(answer) => seen.refused.push((kind, answer.status)),
+                        Err(_) => seen.refused.push((kind, 0)),
+                    }
+                };
+                // Arrivals spread over the first 10 s, as a class opening a link.
+                std::thread::sleep(Duration::from_millis((k * 10_000 / COUNT) as u64));
+                let (scene, objects, material, parameter) = [
+                    ("fig1-lambert", 2, "grey", "kd"),
+                    ("fig3-plastic-s-16", 2, "plastic", "shininess"),
+                    ("fig5-golden-bunny", 2, "gold", "roughness"),
+                ][k % 3];
+                for file in ["/explore", "/static/style.css", "/static/common.js", "/static/webgl.js", "/static/explore.js", "/static/shaders.json", "/api/scenes"] {
+                    ask("page", "GET", &format!("{file}{}", if file == "/explore" { format!("?scene={scene}") } else { String::new() }), b"");
+                }
+                for object in 0..objects {
+                    ask("mesh", "GET", &format!("/api/mesh?scene={scene}&object={object}"), b"");
+                }
+                // The page's requests at a rest: the lobe, and the albedo at its chart's angles (explore.js).
+                let angles: Vec<u32> = (0..90).step_by(5).chain([89]).collect();
+                let studies = |value: f64| {
+                    let mut body = json!({"scene": scene, "material": material, "set": {format!("material.{material}.{parameter}"): value}});
+                    ask("lobe", "POST", "/api/lobe?format=svg", body.to_string().as_bytes());
+                    body["theta_o"] = json!(angles);
+                    ask("albedo", "POST", "/api/albedo?format=svg", body.to_string().as_bytes());
+                };
+                studies(if parameter == "shininess" { 16.0 } else { 0.5 });
+                let mut cycle = k;
+                while !stop.load(Ordering::Relaxed) {
+                    // 2 s of a control moving (the browser draws; the server is asked nothing), then a rest.
+                    std::thread::sleep(Duration::from_secs(2));
+                    cycle += 1;
+                    // One control in three is the material's: its rest asks for the lobe and the albedo.
+                    if cycle % 3 == 0 {
+                        let value = if parameter == "shininess" { 4.0 + (cycle % 60) as f64 } else { 0.1 + (cycle % 70) as f64 / 100.0 };
+                        studies(value);
+                    }
+                    std::thread::sleep(Duration::from_secs(1));
+                }
+            })
+        })
+        .collect();
+    std::thread::sleep(Duration::from_secs(60));
+    stop.store(true, Ordering::Relaxed);
+    for explorer in explorers {
+        let _ = explorer.join();
+    }
+    let _ = std::panic::take_hook();
+    let elapsed = started.elapsed();
+    let cpu = cpu_seconds(server) - cpu_before;
+    let seen = seen.lock().unwrap_or_else(|p| p.into_inner());
+    let mut lines = Vec::new();
+    for kind in ["page", "mesh", "lobe", "albedo"] {
+        let mut times: Vec<Duration> = seen.answered.iter().filter(|(k, _)| *k == kind).map(|(_, t)| *t).collect();
+        times.sort();
+        let refused: Vec<u16> = seen.refused.iter().filter(|(k, _)| *k == kind).map(|(_, s)| *s).collect();
+        if times.is_empty() {
+            lines.push(format!("{kind}: none answered, {} refused", refused.len()));
+            continue;
+        }
+        lines.push(format!(
+            "{kind}: {} answered, p50 {:.1} ms, p99 {:.1} ms, {} refused{}",
+            times.len(),
+            percentile(&times, 0.5).as_secs_f64() * 1000.0,
+            percentile(&times, 0.99).as_secs_f64() * 1000.0,
+            refused.len(),
+            if refused.is_empty() { String::new() } else { format!(" ({:?})", &refused[..refused.len().min(5)]) }
+        ));
+    }
+    println!(
+        "{COUNT} explorers for {:.0} s (frames drawn by their browsers; a control moved 2 s, a rest of 1 s; the lobe          and albedo asked at a material's rest): {}; refused in all: {} (mark: 0); the server's peak memory {} MB, its          CPU time {:.1} s ({:.0}% of one core)",
+        elapsed.as_secs_f64(),
+        lines.join("; "),
+        seen.refused.len(),
+        server.peak_mb(),
+        cpu,
+        100.0 * cpu / elapsed.as_secs_f64(),
+    );
+}
+
 fn main() {
     let folder = tempfile::tempdir().expect("a temporary folder");
     let student = student_jpeg(folder.path());
@@ -244,6 +419,8 @@ fn main() {
     explore(&server);
     check_against_the_command_line(&server, &student);
     load(&server, &student);
+    browser_frames(&server);
+    explorers(&server);
     let (code, _, took) = server.terminate(Duration::from_secs(60));
     println!("stopped by SIGTERM in {:.2} s, exit status {code:?}", took.as_secs_f64());
 }

@@ -48,6 +48,8 @@ fn the_explore_and_check_pages_work_in_a_browser() {
     browser.wait_for("the server's frames", "return page.mode === 'server' && !page.browser;", Duration::from_secs(60));
     let still = "const c = document.getElementById('frame'); return c.dataset.frame === 'still' && c.dataset.state === String(page.sent);";
     browser.wait_for("the first still frame", still, Duration::from_secs(60));
+    let status = browser.run("return document.getElementById('status').textContent;", &[]);
+    assert!(status.as_str().unwrap().ends_with("(the server's frames: this browser has no WebGL2)"), "{status}");
     let moved = browser.run(
         "const slider = document.querySelector('input[data-key=\"light.0.power\"]');
          slider.value = String(Number(slider.max) * 0.35);
@@ -214,10 +216,9 @@ fn browser_frame(browser: &Browser, id: &str) -> (u32, u32, Vec<u8>) {
     (width, height, pixels)
 }
 
-/// `vk-render render` of catalogue scene `id` at `width` x `height` with `args`.
-fn cli_frame(folder: &Path, id: &str, width: u32, height: u32, args: &[&str]) -> image::RgbImage {
+/// `vk-render render` of scene file `scene` (its id `id`) at `width` x `height` with `args`.
+fn cli_frame(folder: &Path, id: &str, scene: &Path, width: u32, height: u32, args: &[&str]) -> image::RgbImage {
     let out = folder.join(format!("{id}-{}.png", args.join("")));
-    let scene = common::root().join(format!("assets/scenes/{id}.toml"));
     let (w, h) = (width.to_string(), height.to_string());
     let mut all = vec!["render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", &w, "--height", &h];
     all.extend(args);
@@ -254,10 +255,37 @@ fn mutant_shaders(file: &str, from: &str, to: &str) -> Value {
 /// the scene's 4 samples and 1 sample differ: the browser draws 1); the page's own frame and shadow
 /// matrices equal the renderer's; three shaders broken on purpose are caught; a finger's drag orbits; the
 /// page fits a phone's, a tablet's and a laptop's window.
+/// A folder of scenes the browser test serves beside the figures: Figure 3's sphere in a measured material
+/// (Cook-Torrance gold tabulated as a MERL file), and the sky's light, which the browser does not draw yet.
+fn more_scenes(folder: &Path) -> std::path::PathBuf {
+    let scenes = folder.join("scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    let gold = vk_render::brdf::Brdf::CookTorrance {
+        kd: glam::Vec3::new(1.0, 0.85, 0.57),
+        f0: glam::Vec3::new(1.0, 0.85, 0.57),
+        roughness: 0.3,
+        metalness: 1.0,
+        diffuse: vk_render::brdf::DiffuseModel::OrenNayar,
+    };
+    let path = scenes.join("gold.binary");
+    let table = vk_render::brdf::MeasuredTable::tabulate(path.clone(), |wi, wo| gold.eval(glam::Vec3::Z, wi, wo));
+    std::fs::write(&path, table.to_bytes()).unwrap();
+    let figure = std::fs::read_to_string(common::root().join("assets/scenes/fig3-plastic-s-16.toml")).unwrap();
+    let measured = figure.replace(
+        "[material.plastic]\nbrdf = \"phong\"\nkd = [0.35, 0.35, 0.35]\nks = [0.15, 0.15, 0.15]\nshininess = 16.0",
+        "[material.plastic]\nbrdf = \"measured\"\nfile = \"gold.binary\"",
+    );
+    assert_ne!(measured, figure, "Figure 3's material is where the test expects it");
+    std::fs::write(scenes.join("measured-gold.toml"), measured).unwrap();
+    std::fs::write(scenes.join("sky.toml"), format!("{figure}\n[environment]\nbuiltin = \"sky\"\n")).unwrap();
+    scenes
+}
+
 #[test]
 fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     let folder = common::temp_dir();
-    let server = Server::local();
+    let scenes = more_scenes(folder.path());
+    let server = Server::start("127.0.0.1:0", &["--workers", "1", "--scenes", scenes.to_str().unwrap()], &[]);
     let browser = Browser::start(1500, 1000);
     let base = format!("http://{}", server.loopback());
     browser.open(&format!("{base}/explore?scene=fig1-lambert"));
@@ -280,13 +308,36 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
         assert!(error < 1e-5, "{}: the page's frame or shadow views differ from the renderer's by {error}", entry[0]);
     }
 
-    // Every scene of the catalogue, against vk-render render at the picture's size.
+    // A scene the browser does not draw yet: the server's frames, and the page says why.
+    browser.run("chooseScene('sky');", &[]);
+    browser.wait_for(
+        "the sky's scene from the server",
+        "return page.mode === 'server' && document.getElementById('frame').dataset.frame === 'still';",
+        Duration::from_secs(120),
+    );
+    let status = browser.run("return document.getElementById('status').textContent;", &[]);
+    assert!(status.as_str().unwrap().contains("the server's frames: your browser does not draw its environment light yet"), "{status}");
+    browser.run("chooseScene('fig1-lambert');", &[]);
+    let said = browser.run("return page.scene.browser.unsupported;", &[]);
+    assert_eq!(said, json!(null), "{said}");
+
+    // Every scene of the catalogue but the sky's, against vk-render render at the picture's size.
+    let mut every: Vec<(String, std::path::PathBuf)> = vk_render::figures::FIGURES
+        .iter()
+        .flat_map(|f| f.images)
+        .map(|image| {
+            let id = image.file.trim_end_matches(".toml").to_string();
+            let path = common::root().join(format!("assets/scenes/{id}.toml"));
+            (id, path)
+        })
+        .collect();
+    every.push(("measured-gold".into(), scenes.join("measured-gold.toml")));
     let mut measured = Vec::new();
-    for image in vk_render::figures::FIGURES.iter().flat_map(|f| f.images) {
-        let id = image.file.trim_end_matches(".toml");
+    for (id, path) in &every {
+        let id = id.as_str();
         let (width, height, pixels) = browser_frame(&browser, id);
-        let cli = cli_frame(folder.path(), id, width, height, &[]);
-        let single = cli_frame(folder.path(), id, width, height, &["--samples", "1"]);
+        let cli = cli_frame(folder.path(), id, path, width, height, &[]);
+        let single = cli_frame(folder.path(), id, path, width, height, &["--samples", "1"]);
         let edges: Vec<bool> = cli.pixels().zip(single.pixels()).map(|(a, b)| a != b).collect();
         let agreement = Agreement::of(&pixels, &cli, &edges);
         let to_single = Agreement::of(&pixels, &single, &vec![false; edges.len()]);

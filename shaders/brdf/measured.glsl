@@ -14,8 +14,9 @@
 #error "MEASURED_BINDING: define the binding of the measured tables before including brdf/measured.glsl"
 #endif
 #ifdef WEBGL
-// The browser's build: a float texture of MEASURED_TEXTURE_WIDTH texels a row, one entry (rgb) a texel.
-const uint MEASURED_TEXTURE_WIDTH = 4096u;
+// The browser's build: a float texture of MEASURED_TEXTURE_WIDTH texels a row (WebGL2's least texture
+// size: every browser takes it), one entry (rgb) a texel (src/serve/pages/webgl.js makes it).
+const uint MEASURED_TEXTURE_WIDTH = 2048u;
 layout(set = 0, binding = MEASURED_BINDING) uniform sampler2D measured_tables;
 vec3 measured_texel(uint entry) {
     return texelFetch(measured_tables, ivec2(entry % MEASURED_TEXTURE_WIDTH, entry / MEASURED_TEXTURE_WIDTH), 0).rgb;

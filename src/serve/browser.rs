@@ -78,17 +78,20 @@ pub struct BrowserObject {
     pub normal_matrix: [f32; 16],
     /// `ObjectData.flags`.
     pub flags: [u32; 4],
+    /// Whether its mesh is closed and wound outwards and its placement keeps the winding: its back faces
+    /// may be culled from outside its bounding box (the renderer's `hides_back_faces`).
+    pub closed: bool,
+    /// Its mesh's bounding box in its own space: the least and the greatest corner.
+    pub bounds: [[f32; 3]; 2],
 }
 
-/// What the browser cannot draw yet, or None: the scene's environment, its measured and analytic
-/// materials, another output transform than the course's, and the term views.
+/// What the browser cannot draw yet, or None: the scene's environment, its analytic materials, another
+/// output transform than the course's, and the term views.
 fn unsupported(scene: &Scene) -> Option<String> {
     if scene.environment.is_some() {
         return Some("its environment light".into());
     }
-    if let Some((name, brdf)) =
-        scene.materials.iter().find(|(_, brdf)| matches!(brdf, Brdf::Measured(_) | Brdf::Analytic(_)))
-    {
+    if let Some((name, brdf)) = scene.materials.iter().find(|(_, brdf)| matches!(brdf, Brdf::Analytic(_))) {
         return Some(format!("material {name} ({})", brdf.name()));
     }
     if scene.image.tonemap != Tonemap::Clamp || scene.image.encoding != Encoding::Linear {
@@ -108,11 +111,14 @@ fn columns(m: [[f32; 4]; 4]) -> [f32; 16] {
     out
 }
 
+/// A material's `Material` values; a measured one's table is fetched apart ([`measured`]), and the page
+/// numbers the tables it holds.
 fn material(brdf: &Brdf) -> Json {
     let m = GpuMaterial::of_parameters(brdf);
     json!({
         "kd": m.kd, "ks": m.ks, "f0": m.f0, "brdf": m.brdf, "shininess": m.shininess, "sigma": m.sigma,
         "roughness": m.roughness, "metalness": m.metalness, "diffuse": m.diffuse,
+        "measured_table": matches!(brdf, Brdf::Measured(_)),
     })
 }
 
@@ -126,7 +132,10 @@ pub fn describe(entry: &Entry) -> BrowserScene {
         .zip(&placed)
         .map(|(object, placed)| {
             let data = GpuObject::placed(object, placed.model);
+            let (min, max) = placed.mesh.bounds();
             BrowserObject {
+                closed: placed.mesh.is_closed_outward() && placed.model.determinant() > 0.0,
+                bounds: [min.to_array(), max.to_array()],
                 sphere: placed.exact_sphere,
                 casts_shadow: placed.casts_shadow,
                 material: object.material.clone(),
@@ -203,6 +212,35 @@ pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -
     })
     .await
     .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("the mesh's task failed: {e}")))??;
+    Ok(([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes)
+        .into_response())
+}
+
+#[derive(Deserialize)]
+pub struct TableQuery {
+    scene: String,
+    material: String,
+}
+
+/// `GET /api/measured?scene=ID&material=NAME`: a measured material's table as the renderer holds it (f_r of
+/// every entry, red, green and blue interleaved, in the MERL file's order; float32, little-endian), which the
+/// page uploads as a float texture (shaders/brdf/measured.glsl, `measured_texel`).
+pub async fn measured(State(app): State<Arc<App>>, Query(query): Query<TableQuery>) -> Result<Response, ApiError> {
+    let entry = app
+        .catalogue
+        .get(&query.scene)
+        .ok_or_else(|| ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: no such scene", query.scene)))?;
+    let Some(Brdf::Measured(table)) = entry.scene.materials.get(&query.material).cloned() else {
+        return Err(ApiError::new(
+            StatusCode::NOT_FOUND,
+            format!("scene {}: material {}: no measured material of that name", entry.id, vk_render::files::shortened(&query.material)),
+        ));
+    };
+    let bytes = tokio::task::spawn_blocking(move || {
+        table.table().rgb.iter().flat_map(|v| v.to_le_bytes()).collect::<Vec<u8>>()
+    })
+    .await
+    .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("the table's task failed: {e}")))?;
     Ok(([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes)
         .into_response())
 }

@@ -116,6 +116,12 @@ impl Browser {
         self.session_call("DELETE", "/actions", &Value::Null);
     }
 
+    /// Runs `script` asynchronously (a function body whose last argument is the callback it calls with its
+    /// value) and returns that value.
+    pub fn run_async(&self, script: &str, args: &[Value]) -> Value {
+        self.session_call("POST", "/execute/async", &json!({"script": script, "args": args}))
+    }
+
     /// Polls `script` until it returns true, within `within`.
     pub fn wait_for(&self, what: &str, script: &str, within: Duration) {
         let started = Instant::now();

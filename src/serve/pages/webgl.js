@@ -10,6 +10,8 @@
 const BLOCKS = { Frame: [0, 192], Lights: [1, 16 * 48], Objects: [2, 224], ShadowViews: [3, 96 * 64] };
 // shadow.frag's FAR_AWAY: what a shadow texel holds where nothing is.
 const FAR_AWAY = 3.0e38;
+// brdf/measured.glsl's MEASURED_TEXTURE_WIDTH: texels a row of the measured tables' texture, one entry each.
+const MEASURED_TEXTURE_WIDTH = 2048;
 
 // ---- The renderer's host-side math (src/render/gpu_types.rs, src/render/shadow.rs, glam's cameras) ----
 
@@ -197,8 +199,47 @@ class BrowserRenderer {
       gl.bindVertexArray(null);
       this.meshes.set(url, { vertexArray, count: indices, url });
     }
+    await this.loadTables(scene);
     this.scene = scene;
     this.shadowKey = null;
+  }
+
+  // The scene's measured materials' tables (GET /api/measured), one after the other in one RGB32F texture
+  // (unit 1), each material's `measured` its table's place, as the renderer's buffer holds them.
+  async loadTables(scene) {
+    const gl = this.gl;
+    const names = Object.keys(scene.browser.materials).filter((name) => scene.browser.materials[name].measured_table);
+    this.tableSlots = {};
+    if (names.length === 0) return;
+    const key = `${scene.id}|${names.join(",")}`;
+    if (this.tables && this.tables.key === key) {
+      names.forEach((name, slot) => { this.tableSlots[name] = slot; });
+      return;
+    }
+    const tables = [];
+    for (const name of names) {
+      const url = `/api/measured?scene=${encodeURIComponent(scene.id)}&material=${encodeURIComponent(name)}`;
+      const response = await fetch(url);
+      if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
+      tables.push(new Float32Array(await response.arrayBuffer()));
+    }
+    const entries = tables.reduce((sum, t) => sum + t.length / 3, 0);
+    const height = Math.ceil(entries / MEASURED_TEXTURE_WIDTH);
+    const texels = new Float32Array(MEASURED_TEXTURE_WIDTH * height * 3);
+    let offset = 0;
+    tables.forEach((table, slot) => {
+      texels.set(table, offset);
+      offset += table.length;
+      this.tableSlots[names[slot]] = slot;
+    });
+    if (this.tables) gl.deleteTexture(this.tables.texture);
+    const texture = gl.createTexture();
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, texture);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB32F, MEASURED_TEXTURE_WIDTH, height, 0, gl.RGB, gl.FLOAT, texels);
+    for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+    gl.activeTexture(gl.TEXTURE0);
+    this.tables = { texture, key };
   }
 
   mesh(scene, index) {
@@ -242,7 +283,7 @@ class BrowserRenderer {
       floats.set(m.f0, 40);
       uints[44] = m.brdf;
       floats.set([m.shininess, m.sigma, m.roughness, m.metalness], 45);
-      uints.set([m.diffuse, 0, 0], 49);
+      uints.set([m.diffuse, this.tableSlots[object.material] || 0, 0], 49);
       uints.set(object.flags, 52);
     });
     gl.bindBuffer(gl.UNIFORM_BUFFER, this.objects);
@@ -307,6 +348,18 @@ class BrowserRenderer {
     gl.deleteFramebuffer(framebuffer);
   }
 
+  // Whether `object`'s back faces can be culled seen from `eye` (GpuMesh::hides_back_faces): its mesh is
+  // closed and wound outwards, and the eye is outside its bounding box (in its own space: the inverse of its
+  // model matrix is the transpose of its normal matrix), so every back face lies behind a front face. A CPU
+  // rasterizer spends on back faces what it spends on front faces.
+  hidesBackFaces(object, eye) {
+    if (!object.closed) return false;
+    const n = object.normal_matrix;
+    const local = [0, 1, 2].map((r) => n[4 * r] * eye[0] + n[4 * r + 1] * eye[1] + n[4 * r + 2] * eye[2] + n[4 * r + 3]);
+    const [least, greatest] = object.bounds;
+    return !local.every((v, k) => v >= least[k] && v <= greatest[k]);
+  }
+
   drawMesh(scene, index) {
     const gl = this.gl;
     const mesh = this.mesh(scene, index);
@@ -326,6 +379,11 @@ class BrowserRenderer {
     gl.enable(gl.DEPTH_TEST);
     gl.depthFunc(gl.GEQUAL);  // reverse-Z, as the renderer's GREATER_OR_EQUAL (src/render/passes.rs)
     gl.disable(gl.CULL_FACE);
+    // Meshes are wound counter-clockwise seen from outside; through the camera's y-flipped projection they
+    // are clockwise in GL's window coordinates (PassView::front_face finds Vulkan's counter-clockwise, whose
+    // area has the opposite sign to GL's).
+    gl.frontFace(gl.CW);
+    gl.cullFace(gl.BACK);
     this.writeLights(state, browser.shadows);
     this.writeObjects(scene, state);
     const shadowKey = JSON.stringify([scene.id, state.lights.map((l) => l.position)]);
@@ -361,6 +419,8 @@ class BrowserRenderer {
     gl.viewport(0, 0, width, height);
     gl.clearBufferfv(gl.COLOR, 0, browser.background);
     gl.clearBufferfv(gl.DEPTH, 0, [0]);
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, this.tables ? this.tables.texture : null);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D_ARRAY, this.shadowMaps.texture);
     browser.objects.forEach((object, index) => {
@@ -372,8 +432,11 @@ class BrowserRenderer {
         : this.program("forward.vert", "forward.frag", constants);
       gl.useProgram(entry.program);
       gl.uniform1ui(entry.object, 0);
+      if (this.hidesBackFaces(object, state.camera.position)) gl.enable(gl.CULL_FACE);
+      else gl.disable(gl.CULL_FACE);
       this.drawMesh(scene, index);
     });
+    gl.disable(gl.CULL_FACE);
     // The resolve onto the canvas.
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.deleteFramebuffer(framebuffer);
