@@ -249,8 +249,8 @@ fn load(server: &Server, student: &std::path::Path) {
 }
 
 /// The explore page drawing in the browser: for each scene, the time from opening the page to its first
-/// frame, and frames a second while a material's control moves (each frame finished before the next
-/// animation frame is asked for, as the page draws them).
+/// frame, and frames a second while a material's control moves, one frame an animation frame as the page
+/// draws them, each finished before the next (a pixel read back: WebGL's finish() does not wait in Chromium).
 fn browser_frames(server: &Server) {
     let browser = webdriver::Browser::start(1500, 1000);
     for (id, key, low, high) in [
@@ -268,6 +268,7 @@ fn browser_frames(server: &Server) {
         let moving = browser.run_async(
             "const [key, low, high, done] = arguments;
              const gl = page.browser.gl;
+             const pixel = new Uint8Array(4);
              let frames = 0;
              const start = performance.now();
              function step() {
@@ -276,7 +277,7 @@ fn browser_frames(server: &Server) {
                const v = low + (high - low) * (0.5 + 0.5 * Math.sin(frames / 10));
                page.set[key] = key.endsWith('.kd') ? [v, v, v] : v;
                drawInBrowser();
-               gl.finish();
+               gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
                frames += 1;
                requestAnimationFrame(step);
              }
