@@ -104,12 +104,14 @@ fn edited_files_are_reloaded_and_broken_ones_keep_the_last_good_image() {
     let original = std::fs::read_to_string(root().join("assets/scenes/fig1-lambert.toml")).unwrap();
     std::fs::write(&scene_path, &original).unwrap();
     let shot = folder.path().join("shot.png");
+    // Each step waits for the preview's own line saying it saw the last (-v), never for a fixed time; the run's
+    // 20 s bound only its whole, which ends on a frame drawn after both reloads.
     let (mut command, _runtime) = preview_command(&[
         scene_path.to_str().unwrap(),
         "--shaders",
         shaders.to_str().unwrap(),
         "--seconds",
-        "12",
+        "20",
         "--screenshot",
         shot.to_str().unwrap(),
         "--width",
@@ -117,24 +119,51 @@ fn edited_files_are_reloaded_and_broken_ones_keep_the_last_good_image() {
         "--height",
         "120",
     ]);
-    let child = command.stderr(std::process::Stdio::piped()).stdout(std::process::Stdio::piped()).spawn().unwrap();
-    let pause = || std::thread::sleep(Duration::from_millis(3500));
-    pause();
+    command.arg("-v");
+    let mut child = command.stderr(std::process::Stdio::piped()).stdout(std::process::Stdio::null()).spawn().unwrap();
+    let log = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+    let reader = {
+        let (log, mut pipe) = (log.clone(), child.stderr.take().unwrap());
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 4096];
+            while let Ok(n) = std::io::Read::read(&mut pipe, &mut buffer) {
+                if n == 0 {
+                    break;
+                }
+                log.lock().unwrap().push_str(&String::from_utf8_lossy(&buffer[..n]));
+            }
+        })
+    };
+    let wait_for = |lines: &[&str], after: usize| -> usize {
+        let started = std::time::Instant::now();
+        loop {
+            let text = log.lock().unwrap().clone();
+            if lines.iter().all(|line| text[after..].contains(line)) {
+                return text.len();
+            }
+            assert!(started.elapsed() < Duration::from_secs(60), "no {lines:?} within 60 s: {text}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    let shown = wait_for(&["edits to it and the shaders of"], 0);
     // A broken shader and a broken scene: each logged, the last good ones kept.
     let lambert = shaders.join("brdf/lambert.glsl");
     let good_shader = std::fs::read_to_string(&lambert).unwrap();
     std::fs::write(&lambert, good_shader.replace("return kd * INV_PI;", "return kd * ;")).unwrap();
     std::fs::write(&scene_path, original.replace("radius = 1.0", "radius = -1.0")).unwrap();
-    pause();
+    let kept = wait_for(&["keeping the last good shaders", "keeping the last good scene"], shown);
     // Mended, each differently from the start: a Lambert shader at half its reflectance, and a brighter
     // sphere. The last frame must show both, so both reloads are seen in its pixels, not only in the log.
     let halved = good_shader.replace("return kd * INV_PI;", "return 0.5 * kd * INV_PI;");
     assert_ne!(halved, good_shader);
     std::fs::write(&lambert, halved).unwrap();
     std::fs::write(&scene_path, original.replace("kd = [0.5, 0.5, 0.5]", "kd = [0.9, 0.9, 0.9]")).unwrap();
-    let output = child.wait_with_output().unwrap();
-    succeeded(&output);
-    let stderr = String::from_utf8_lossy(&output.stderr);
+    wait_for(&["reloaded the shaders of", &format!("reloaded {}", scene_path.display())], kept);
+    let status = child.wait().unwrap();
+    reader.join().unwrap();
+    let stderr = log.lock().unwrap().clone();
+    assert!(status.success(), "preview failed: {stderr}");
+    assert!(!stderr.contains("validation:") && !stderr.contains("VUID"), "{stderr}");
     assert!(stderr.contains("brdf/lambert.glsl") && stderr.contains("keeping the last good shaders"), "{stderr}");
     assert!(stderr.contains("object.0.radius = -1") && stderr.contains("keeping the last good scene"), "{stderr}");
     let shot = image::open(&shot).unwrap().into_rgb8();

@@ -595,7 +595,8 @@ fn a_server_beyond_loopback_needs_its_token() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("at least 22 printable characters"));
     let token = "3f1d0c9a7be2458e9d6b1a2c4e8f7a90";
     let server = Server::start("0.0.0.0:0", &["--workers", "1"], &[("VK_RENDER_TOKEN", token)]);
-    let link = server.printed.iter().find(|l| l.starts_with("sign in: ")).expect("the sign-in link is printed");
+    let link = server.next_printed_line(Duration::from_secs(30));
+    assert!(link.starts_with("sign in: "), "the sign-in link is printed after the address: {link}");
     assert!(link.ends_with(&format!("/signin?token={token}")), "{link}");
     // Missing or wrong: 401, for the API and the pages alike (a page gets the sign-in page).
     for headers in [

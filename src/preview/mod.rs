@@ -401,6 +401,11 @@ impl Running {
             return Ok(()); // the swapchain went out of date: made anew on the next frame
         }
         self.pace.presented_one(self.shown == frames::Shown::Moving);
+        if self.pace.presented == 1 {
+            // With -v: from here on an edit is seen (the hot-reload test waits for this line).
+            let shaders = self.watched.shaders.as_ref().map(|s| format!(" and the shaders of {}", s.display()));
+            log::info!("showing {}: edits to it{} are reloaded", self.scene_path.display(), shaders.unwrap_or_default());
+        }
         let frame_ms = started.elapsed().as_secs_f64() * 1e3;
         self.window.set_title(&format!("{}{}", self.controls.title(&self.scene, frame_ms), self.shown.describe()));
         // A counted run ends on a still frame, its screenshot the exact image: past its count, the motion

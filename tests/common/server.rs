@@ -14,8 +14,8 @@ static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 pub struct Server {
     pub child: Child,
     pub address: SocketAddr,
-    /// What it printed after its address (the sign-in link).
-    pub printed: Vec<String>,
+    /// What it prints after its address (the sign-in link), line by line.
+    printed: Mutex<std::sync::mpsc::Receiver<String>>,
     /// Its standard error so far (read on a thread of its own, so that the server never blocks on it).
     stderr: std::sync::Arc<Mutex<String>>,
     /// That thread, which ends when the server's standard error closes (it has exited).
@@ -88,7 +88,8 @@ impl Server {
             Err(_) => {
                 let _ = child.kill();
                 let _ = child.wait();
-                std::thread::sleep(Duration::from_millis(100));
+                // Its standard error is whole once the reading thread has seen the pipe close.
+                let _ = stderr_reader.join();
                 panic!("vk-render serve did not start: {}", stderr.lock().unwrap_or_else(|p| p.into_inner()));
             }
         };
@@ -97,11 +98,7 @@ impl Server {
             .unwrap_or_else(|| panic!("its first line: {first}"))
             .parse()
             .expect("an address");
-        let mut rest = Vec::new();
-        while let Ok(line) = printed.recv_timeout(Duration::from_millis(200)) {
-            rest.push(line);
-        }
-        Self { child, address, printed: rest, stderr, stderr_reader: Some(stderr_reader), _turn: turn }
+        Self { child, address, printed: Mutex::new(printed), stderr, stderr_reader: Some(stderr_reader), _turn: turn }
     }
 
     /// A server of the tests' defaults on 127.0.0.1.
@@ -156,6 +153,12 @@ impl Server {
     }
 
     /// Sends SIGTERM.
+    /// The next line it prints after its address, within `within`.
+    pub fn next_printed_line(&self, within: Duration) -> String {
+        let lines = self.printed.lock().unwrap_or_else(|p| p.into_inner());
+        lines.recv_timeout(within).unwrap_or_else(|_| panic!("no further line printed within {within:?}"))
+    }
+
     /// Polls `condition` every 20 ms until it holds, failing the test naming `what` after `within`.
     pub fn wait_for(&self, what: &str, within: Duration, condition: impl Fn(&Self) -> bool) {
         let started = Instant::now();
