@@ -256,7 +256,8 @@ fn mutant_shaders(file: &str, from: &str, to: &str) -> Value {
 /// matrices equal the renderer's; three shaders broken on purpose are caught; a finger's drag orbits; the
 /// page fits a phone's, a tablet's and a laptop's window.
 /// A folder of scenes the browser test serves beside the figures: Figure 3's sphere in a measured material
-/// (Cook-Torrance gold tabulated as a MERL file), and the sky's light, which the browser does not draw yet.
+/// (Cook-Torrance gold tabulated as a MERL file), Figure 4's gold through ACES and sRGB, and the sky's light,
+/// which the browser does not draw yet.
 fn more_scenes(folder: &Path) -> std::path::PathBuf {
     let scenes = folder.join("scenes");
     std::fs::create_dir_all(&scenes).unwrap();
@@ -278,6 +279,11 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
     assert_ne!(measured, figure, "Figure 3's material is where the test expects it");
     std::fs::write(scenes.join("measured-gold.toml"), measured).unwrap();
     std::fs::write(scenes.join("sky.toml"), format!("{figure}\n[environment]\nbuiltin = \"sky\"\n")).unwrap();
+    // Figure 4's gold through another output transform: exposure, ACES's curve and sRGB's encoding.
+    let gold = std::fs::read_to_string(common::root().join("assets/scenes/fig4-gold-metalness-1.0.toml")).unwrap();
+    let filmic = gold.replace("tonemap = \"clamp\"\nencoding = \"linear\"", "tonemap = \"aces\"\nencoding = \"srgb\"\nexposure = 1.5");
+    assert_ne!(filmic, gold, "Figure 4's output transform is where the test expects it");
+    std::fs::write(scenes.join("aces-srgb.toml"), filmic).unwrap();
     scenes
 }
 
@@ -332,6 +338,7 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
         })
         .collect();
     every.push(("measured-gold".into(), scenes.join("measured-gold.toml")));
+    every.push(("aces-srgb".into(), scenes.join("aces-srgb.toml")));
     let mut measured = Vec::new();
     for (id, path) in &every {
         let id = id.as_str();

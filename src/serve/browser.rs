@@ -43,8 +43,12 @@ pub struct BrowserScene {
     /// Why the browser cannot draw this scene (the server then renders its frames, and the page says why).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unsupported: Option<String>,
-    /// The factor the radiance is multiplied by before the course's clamp.
+    /// The factor the radiance is multiplied by before the tone curve.
     pub exposure: f32,
+    /// The tone curve: shaders/common/output.glsl's TONEMAP_* (0 the course's clamp, 1 Reinhard, 2 ACES).
+    pub tonemap: u32,
+    /// The encoding: ENCODING_* (0 the course's linear, 1 sRGB).
+    pub encoding: u32,
     /// The image's background, linear rgb and alpha 1 (the frame's `background`).
     pub background: [f32; 4],
     /// Texels on a side of each face of a light's shadow cube.
@@ -85,17 +89,14 @@ pub struct BrowserObject {
     pub bounds: [[f32; 3]; 2],
 }
 
-/// What the browser cannot draw yet, or None: the scene's environment, its analytic materials, another
-/// output transform than the course's, and the term views.
+/// What the browser cannot draw yet, or None: the scene's environment, its analytic materials, and the term
+/// views.
 fn unsupported(scene: &Scene) -> Option<String> {
     if scene.environment.is_some() {
         return Some("its environment light".into());
     }
     if let Some((name, brdf)) = scene.materials.iter().find(|(_, brdf)| matches!(brdf, Brdf::Analytic(_))) {
         return Some(format!("material {name} ({})", brdf.name()));
-    }
-    if scene.image.tonemap != Tonemap::Clamp || scene.image.encoding != Encoding::Linear {
-        return Some("an output transform other than the course's (clamp, linear)".into());
     }
     if scene.image.view != View::Radiance {
         return Some("a term view".into());
@@ -149,6 +150,15 @@ pub fn describe(entry: &Entry) -> BrowserScene {
     BrowserScene {
         unsupported: unsupported(scene),
         exposure: scene.image.exposure,
+        tonemap: match scene.image.tonemap {
+            Tonemap::Clamp => 0,
+            Tonemap::Reinhard => 1,
+            Tonemap::Aces => 2,
+        },
+        encoding: match scene.image.encoding {
+            Encoding::Linear => 0,
+            Encoding::Srgb => 1,
+        },
         background: frame.background,
         shadow_map_size: scene.image.shadow_map_size,
         shadow_filter: u32::from(scene.image.shadow_filter != vk_render::scene::ShadowFilter::Hard),

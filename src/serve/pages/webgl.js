@@ -169,7 +169,10 @@ class BrowserRenderer {
       if (location) gl.uniform1i(location, unit);
     }
     const uniform = (name) => gl.getUniformLocation(program, name);
-    const entry = { program, object: uniform("draw.object_index"), light: uniform("draw.light_index"), face: uniform("draw.face"), exposure: uniform("resolve.exposure") };
+    const entry = {
+      program, object: uniform("draw.object_index"), light: uniform("draw.light_index"), face: uniform("draw.face"),
+      exposure: uniform("resolve.exposure"), tonemap: uniform("resolve.tonemap"), encoding: uniform("resolve.encoding"),
+    };
     this.programs.set(key, entry);
     return entry;
   }
@@ -444,6 +447,8 @@ class BrowserRenderer {
     const resolve = this.program("background.vert", "web/resolve.frag", {});
     gl.useProgram(resolve.program);
     gl.uniform1f(resolve.exposure, browser.exposure);
+    gl.uniform1ui(resolve.tonemap, browser.tonemap);
+    gl.uniform1ui(resolve.encoding, browser.encoding);
     gl.bindTexture(gl.TEXTURE_2D_ARRAY, null);
     gl.bindTexture(gl.TEXTURE_2D, this.colour.texture);
     gl.bindVertexArray(this.emptyVertexArray);
