@@ -384,6 +384,29 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     }
     assert_console_clean(&browser, "explore, every scene");
 
+    // A lost WebGL context: the server's frames, and the page says why; restored, the browser's again.
+    browser.run("chooseScene('fig1-lambert');", &[]);
+    browser.wait_for("fig1 in the browser", "return page.mode === 'browser' && page.scene.id === 'fig1-lambert';", Duration::from_secs(60));
+    browser.run("page.lose = page.browser.gl.getExtension('WEBGL_lose_context'); page.lose.loseContext();", &[]);
+    browser.wait_for(
+        "the server's frames after the context was lost",
+        "return page.mode === 'server' && document.getElementById('frame').dataset.frame === 'still' && document.getElementById('status').textContent.includes(\"the browser's WebGL context was lost\");",
+        Duration::from_secs(60),
+    );
+    browser.run("page.lose.restoreContext();", &[]);
+    browser.wait_for(
+        "the browser's frames once the context is back",
+        "const c = document.getElementById('gl'); return page.mode === 'browser' && c.dataset.state === String(page.sent);",
+        Duration::from_secs(60),
+    );
+    // The browser's own notice of the loss that the test caused is the one message allowed.
+    let messages = browser.console();
+    let others: Vec<_> = messages
+        .iter()
+        .filter(|(level, text)| (level == "SEVERE" || level == "WARNING") && !text.contains("CONTEXT_LOST_WEBGL"))
+        .collect();
+    assert!(others.is_empty(), "the console after a lost context: {messages:?}");
+
     // A finger's drag orbits the camera, as the mouse's does.
     browser.run("chooseScene('fig3-plastic-s-16');", &[]);
     browser.wait_for("fig3 in the browser", "return page.mode === 'browser' && page.scene.id === 'fig3-plastic-s-16';", Duration::from_secs(60));

@@ -347,8 +347,26 @@ async function start() {
   $("download").addEventListener("click", download);
   orbit($("frame"));
   orbit($("gl"));
-  ({ renderer: page.browser, reason: page.noBrowser } = await BrowserRenderer.create($("gl")).catch((error) => ({ renderer: null, reason: error.message })));
+  await makeBrowserRenderer();
+  // A lost WebGL context (the browser reclaims it, a driver resets): the server's frames until it is back.
+  $("gl").addEventListener("webglcontextlost", (event) => {
+    event.preventDefault();  // asks the browser to restore it
+    page.browser = null;
+    page.noBrowser = "the browser's WebGL context was lost";
+    useServer(page.noBrowser);
+  });
+  $("gl").addEventListener("webglcontextrestored", async () => {
+    await makeBrowserRenderer();
+    chooseRenderer();
+  });
   chooseScene(select.value);
+}
+
+// The browser's renderer on the page's WebGL canvas, or none and why (page.noBrowser).
+async function makeBrowserRenderer() {
+  const made = await BrowserRenderer.create($("gl")).catch((error) => ({ renderer: null, reason: error.message }));
+  page.browser = made.renderer;
+  page.noBrowser = made.reason;
 }
 
 start();

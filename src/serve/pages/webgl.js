@@ -298,8 +298,8 @@ class BrowserRenderer {
     gl.bindBufferRange(gl.UNIFORM_BUFFER, BLOCKS.Objects[0], this.objects, this.objectStride * k, BLOCKS.Objects[1]);
   }
 
-  // A target: a texture of `format` (or a layer of an array texture) with a float depth buffer.
-  framebuffer(width, height) {
+  // The float depth buffer of a target of width x height (one kept, made anew when the size changes).
+  depthBuffer(width, height) {
     const gl = this.gl;
     if (this.depth && this.depth.width === width && this.depth.height === height) return this.depth.renderbuffer;
     if (this.depth) gl.deleteRenderbuffer(this.depth.renderbuffer);
@@ -329,7 +329,7 @@ class BrowserRenderer {
     this.write("ShadowViews", views);
     const framebuffer = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
-    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.framebuffer(size, size));
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.depthBuffer(size, size));
     gl.viewport(0, 0, size, size);
     casting.forEach((k, cube) => {
       for (let face = 0; face < 6; face++) {
@@ -418,7 +418,7 @@ class BrowserRenderer {
     const framebuffer = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.colour.texture, 0);
-    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.framebuffer(width, height));
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.DEPTH_ATTACHMENT, gl.RENDERBUFFER, this.depthBuffer(width, height));
     gl.viewport(0, 0, width, height);
     gl.clearBufferfv(gl.COLOR, 0, browser.background);
     gl.clearBufferfv(gl.DEPTH, 0, [0]);
