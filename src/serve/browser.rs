@@ -6,9 +6,10 @@
 //! computes what its controls change (the camera's matrices, the lights, the materials' parameters) and
 //! draws; the server only hands out these files.
 
-use std::collections::BTreeMap;
-use std::sync::{Arc, LazyLock};
+use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, LazyLock, Mutex};
 
+use axum::body::Bytes;
 use axum::extract::{Query, State};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
@@ -180,6 +181,39 @@ pub fn describe(entry: &Entry) -> BrowserScene {
     }
 }
 
+/// The browser's files that are made from the catalogue (a mesh's vertices, a measured table's floats), each
+/// made once, on a blocking thread, by the first request for it, and shared by every request after it (and by
+/// those waiting for it): their memory is bounded by the catalogue, not by how many ask at once. Only keys
+/// of the catalogue's own objects and materials get here.
+#[derive(Default)]
+pub struct Files(Mutex<HashMap<String, Arc<tokio::sync::OnceCell<Bytes>>>>);
+
+impl Files {
+    async fn get(
+        &self,
+        key: String,
+        make: impl FnOnce() -> Result<Vec<u8>, ApiError> + Send + 'static,
+    ) -> Result<Bytes, ApiError> {
+        let cell = self.0.lock().unwrap_or_else(|p| p.into_inner()).entry(key).or_default().clone();
+        cell.get_or_try_init(|| async {
+            tokio::task::spawn_blocking(make)
+                .await
+                .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("the file's task failed: {e}")))?
+                .map(Bytes::from)
+        })
+        .await
+        .cloned()
+    }
+}
+
+fn binary(bytes: Bytes) -> Response {
+    ([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes).into_response()
+}
+
+fn no_scene(id: &str) -> ApiError {
+    ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: no such scene", vk_render::files::shortened(id)))
+}
+
 #[derive(Deserialize)]
 pub struct MeshQuery {
     scene: String,
@@ -191,39 +225,34 @@ pub struct MeshQuery {
 /// the index count (u32 each), then each vertex's position (4 floats, homogeneous), normal (3) and tangent
 /// (3), then the indices (u32).
 pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -> Result<Response, ApiError> {
-    let entry = app
-        .catalogue
-        .get(&query.scene)
-        .ok_or_else(|| ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: no such scene", query.scene)))?;
-    let scene = entry.scene.clone();
+    let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
     let object = query.object;
-    let id = entry.id.clone();
-    // An OBJ is read from disk (once per process): off the async threads.
-    let bytes = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, ApiError> {
-        let placed = vk_render::mesh::place_objects(&scene).map_err(|e| ApiError::from_library(&e))?;
-        let mesh = &placed
-            .get(object)
-            .ok_or_else(|| {
-                ApiError::new(StatusCode::NOT_FOUND, format!("scene {id}: object {object}: no such object"))
-            })?
-            .mesh;
-        let mut bytes = Vec::with_capacity(8 + mesh.vertices.len() * 40 + mesh.indices.len() * 4);
-        bytes.extend((mesh.vertices.len() as u32).to_le_bytes());
-        bytes.extend((mesh.indices.len() as u32).to_le_bytes());
-        for vertex in &mesh.vertices {
-            for value in vertex.position.iter().chain(&vertex.normal).chain(&vertex.tangent) {
-                bytes.extend(value.to_le_bytes());
+    if object >= entry.scene.objects.len() {
+        return Err(ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: object {object}: no such object", entry.id)));
+    }
+    let scene = entry.scene.clone();
+    let key = format!("mesh {} {object}", entry.id);
+    let bytes = app
+        .browser_files
+        .get(key, move || {
+            // An OBJ is read from disk (once per process).
+            let placed = vk_render::mesh::place_objects(&scene).map_err(|e| ApiError::from_library(&e))?;
+            let mesh = &placed[object].mesh;
+            let mut bytes = Vec::with_capacity(8 + mesh.vertices.len() * 40 + mesh.indices.len() * 4);
+            bytes.extend((mesh.vertices.len() as u32).to_le_bytes());
+            bytes.extend((mesh.indices.len() as u32).to_le_bytes());
+            for vertex in &mesh.vertices {
+                for value in vertex.position.iter().chain(&vertex.normal).chain(&vertex.tangent) {
+                    bytes.extend(value.to_le_bytes());
+                }
             }
-        }
-        for index in &mesh.indices {
-            bytes.extend(index.to_le_bytes());
-        }
-        Ok(bytes)
-    })
-    .await
-    .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("the mesh's task failed: {e}")))??;
-    Ok(([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes)
-        .into_response())
+            for index in &mesh.indices {
+                bytes.extend(index.to_le_bytes());
+            }
+            Ok(bytes)
+        })
+        .await?;
+    Ok(binary(bytes))
 }
 
 #[derive(Deserialize)]
@@ -236,21 +265,21 @@ pub struct TableQuery {
 /// every entry, red, green and blue interleaved, in the MERL file's order; float32, little-endian), which the
 /// page uploads as a float texture (shaders/brdf/measured.glsl, `measured_texel`).
 pub async fn measured(State(app): State<Arc<App>>, Query(query): Query<TableQuery>) -> Result<Response, ApiError> {
-    let entry = app
-        .catalogue
-        .get(&query.scene)
-        .ok_or_else(|| ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: no such scene", query.scene)))?;
+    let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
     let Some(Brdf::Measured(table)) = entry.scene.materials.get(&query.material).cloned() else {
         return Err(ApiError::new(
             StatusCode::NOT_FOUND,
-            format!("scene {}: material {}: no measured material of that name", entry.id, vk_render::files::shortened(&query.material)),
+            format!(
+                "scene {}: material {}: no measured material of that name",
+                entry.id,
+                vk_render::files::shortened(&query.material)
+            ),
         ));
     };
-    let bytes = tokio::task::spawn_blocking(move || {
-        table.table().rgb.iter().flat_map(|v| v.to_le_bytes()).collect::<Vec<u8>>()
-    })
-    .await
-    .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("the table's task failed: {e}")))?;
-    Ok(([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes)
-        .into_response())
+    let key = format!("measured {} {}", entry.id, query.material);
+    let bytes = app
+        .browser_files
+        .get(key, move || Ok(table.table().rgb.iter().flat_map(|v| v.to_le_bytes()).collect()))
+        .await?;
+    Ok(binary(bytes))
 }

@@ -112,6 +112,8 @@ pub struct App {
     catalogue: Catalogue,
     /// `GET /api/scenes`'s answer, made at start.
     described: String,
+    /// The browser's meshes and measured tables, each made once.
+    browser_files: browser::Files,
     workers: Workers,
     worker_count: usize,
     reports: Reports,
@@ -147,6 +149,7 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
     let app = Arc::new(App {
         catalogue,
         described,
+        browser_files: browser::Files::default(),
         workers,
         worker_count: usize::from(args.workers),
         reports: Reports::new(
