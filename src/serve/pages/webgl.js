@@ -121,7 +121,8 @@ class BrowserRenderer {
     this.programs = new Map();
     this.meshes = new Map();
     this.blocks = {};
-    for (const [name, [binding, size]] of Object.entries(BLOCKS)) {
+    // One buffer a block, but the objects': theirs are ranges of one buffer (writeObjects, bindObject).
+    for (const [name, [binding, size]] of Object.entries(BLOCKS).filter(([name]) => name !== "Objects")) {
       const buffer = gl.createBuffer();
       gl.bindBuffer(gl.UNIFORM_BUFFER, buffer);
       gl.bufferData(gl.UNIFORM_BUFFER, size, gl.DYNAMIC_DRAW);
@@ -158,7 +159,7 @@ class BrowserRenderer {
     gl.bindAttribLocation(program, 2, "in_tangent");
     gl.linkProgram(program);
     if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(`${vertex} + ${fragment}: ${gl.getProgramInfoLog(program)}`);
-    for (const [name, { binding }] of Object.entries(this.blocks)) {
+    for (const [name, [binding]] of Object.entries(BLOCKS)) {
       const index = gl.getUniformBlockIndex(program, name);
       if (index !== gl.INVALID_INDEX) gl.uniformBlockBinding(program, index, binding);
     }
@@ -203,7 +204,6 @@ class BrowserRenderer {
       this.meshes.set(url, { vertexArray, count: indices, url });
     }
     await this.loadTables(scene);
-    this.scene = scene;
     this.shadowKey = null;
   }
 
@@ -405,7 +405,6 @@ class BrowserRenderer {
     f[40] = 2 / browser.shadow_map_size;
     f.set([1, 0, 0, 0], 44);
     this.write("Frame", new Uint8Array(frame));
-    this.lastFrame = camera;
     // The forward pass into a float target, one sample a pixel.
     if (!this.colour || this.colour.width !== width || this.colour.height !== height) {
       if (this.colour) gl.deleteTexture(this.colour.texture);
