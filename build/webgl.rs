@@ -3,7 +3,9 @@
 //! what it has: shaders/common/scene.glsl), its SPIR-V translated by SPIRV-Cross to GLSL ES 3.00 (a vertex
 //! shader's Vulkan depth range [0, w] made GL's [-w, w]), and the text checked by glslangValidator.
 //! Specialization constants stay as SPIRV-Cross writes them (`SPIRV_CROSS_CONSTANT_ID_n` macros with their
-//! defaults), which the page defines per program. Used by build.rs, and by the browser test, which translates
+//! defaults), which the page defines per program. An entry's variants (`// variant: A+B`, as build.rs
+//! compiles them for the renderer) are translated too, as `FILE+A+B`, but those of the environment's light
+//! (WITH_ENVIRONMENT), which the browser does not draw yet. Used by build.rs, and by the browser test, which translates
 //! shaders broken on purpose to show that its comparison catches them.
 
 use std::path::{Path, PathBuf};
@@ -26,8 +28,11 @@ pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String,
     collect(root, &mut files);
     files.sort();
     let tool = |variable: &str, default: &str| std::env::var(variable).unwrap_or_else(|_| default.into());
-    let (glslc, spirv_cross, validator) =
-        (tool("GLSLC", "glslc"), tool("SPIRV_CROSS", "spirv-cross"), tool("GLSLANG_VALIDATOR", "glslangValidator"));
+    let tools = Tools {
+        glslc: tool("GLSLC", "glslc"),
+        spirv_cross: tool("SPIRV_CROSS", "spirv-cross"),
+        validator: tool("GLSLANG_VALIDATOR", "glslangValidator"),
+    };
     let mut translated = Vec::new();
     for file in &files {
         let relative = file.strip_prefix(root).map_err(|e| e.to_string())?.to_string_lossy().replace('\\', "/");
@@ -35,46 +40,75 @@ pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String,
         if !is_entry(&relative) || !text.lines().any(|line| line.trim() == "// webgl") {
             continue;
         }
-        let spirv = out.join(format!("{relative}.spv"));
-        // The stage stays the last extension, which glslangValidator reads the stage from.
-        let stage = relative.rsplit('.').next().unwrap_or_default();
-        let es = out.join(format!("{}.es.{stage}", relative.trim_end_matches(&format!(".{stage}"))));
-        std::fs::create_dir_all(spirv.parent().unwrap_or(out)).map_err(|e| format!("{}: {e}", out.display()))?;
-        run(
-            Command::new(&glslc)
-                .current_dir(root)
-                .args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", ".", "-DWEBGL", "-o"])
-                .arg(&spirv)
-                .arg(&relative),
-            &format!("glslc could not compile shaders/{relative} with WEBGL defined (its errors are above)"),
-            "the Debian package glslc",
-        )?;
-        let mut translate = Command::new(&spirv_cross);
-        translate.args(["--es", "--version", "300", "--remove-unused-variables"]);
-        // GLSL ES 3.00 matches a vertex shader's outputs to a fragment shader's inputs by name, not by
-        // location as Vulkan does: each is renamed after its location.
-        let direction = if stage == "vert" { "out" } else { "in" };
-        for location in 0..INTERFACE_LOCATIONS {
-            translate.args(["--rename-interface-variable", direction, &location.to_string(), &format!("location_{location}")]);
+        let variants = text
+            .lines()
+            .filter_map(|line| line.strip_prefix("// variant: "))
+            .map(str::trim)
+            .filter(|variant| !variant.split('+').any(|name| name == "WITH_ENVIRONMENT"));
+        for variant in std::iter::once(None).chain(variants.map(Some)) {
+            let macros: Vec<&str> = variant.iter().flat_map(|v| v.split('+')).collect();
+            let entry = variant.map_or(relative.clone(), |v| format!("{relative}+{v}"));
+            translated.push((entry.clone(), translate_one(root, out, &relative, &entry, &macros, validate, &tools)?));
         }
-        if stage == "vert" {
-            translate.arg("--fixup-clipspace");
-        }
-        run(
-            translate.arg("--output").arg(&es).arg(&spirv),
-            &format!("SPIRV-Cross could not translate shaders/{relative} to GLSL ES 3.00 (its errors are above)"),
-            "the Debian package spirv-cross",
-        )?;
-        if validate {
-            run(
-                Command::new(&validator).arg(&es),
-                &format!("the translation of shaders/{relative} is not valid GLSL ES 3.00 (glslangValidator's errors above)"),
-                "the Debian package glslang-tools",
-            )?;
-        }
-        translated.push((relative, es));
     }
     Ok(translated)
+}
+
+/// The tools: glslc, spirv-cross and glslangValidator (each overridden by its environment variable).
+struct Tools {
+    glslc: String,
+    spirv_cross: String,
+    validator: String,
+}
+
+/// Entry `relative` compiled with WEBGL and `macros` defined, translated and checked: its GLSL ES file.
+fn translate_one(
+    root: &Path,
+    out: &Path,
+    relative: &str,
+    entry: &str,
+    macros: &[&str],
+    validate: bool,
+    tools: &Tools,
+) -> Result<PathBuf, String> {
+    let Tools { glslc, spirv_cross, validator } = tools;
+    let spirv = out.join(format!("{entry}.spv"));
+    // The stage stays the last extension, which glslangValidator reads the stage from.
+    let stage = relative.rsplit('.').next().unwrap_or_default();
+    let es = out.join(format!("{}{}.es.{stage}", relative.trim_end_matches(&format!(".{stage}")), &entry[relative.len()..]));
+    std::fs::create_dir_all(spirv.parent().unwrap_or(out)).map_err(|e| format!("{}: {e}", out.display()))?;
+    let mut compile = Command::new(glslc);
+    compile.current_dir(root).args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", ".", "-DWEBGL"]);
+    compile.args(macros.iter().map(|m| format!("-D{m}")));
+    run(
+        compile.arg("-o").arg(&spirv).arg(relative),
+        &format!("glslc could not compile shaders/{entry} with WEBGL defined (its errors are above)"),
+        "the Debian package glslc",
+    )?;
+    let mut translate = Command::new(spirv_cross);
+    translate.args(["--es", "--version", "300", "--remove-unused-variables"]);
+    // GLSL ES 3.00 matches a vertex shader's outputs to a fragment shader's inputs by name, not by
+    // location as Vulkan does: each is renamed after its location.
+    let direction = if stage == "vert" { "out" } else { "in" };
+    for location in 0..INTERFACE_LOCATIONS {
+        translate.args(["--rename-interface-variable", direction, &location.to_string(), &format!("location_{location}")]);
+    }
+    if stage == "vert" {
+        translate.arg("--fixup-clipspace");
+    }
+    run(
+        translate.arg("--output").arg(&es).arg(&spirv),
+        &format!("SPIRV-Cross could not translate shaders/{entry} to GLSL ES 3.00 (its errors are above)"),
+        "the Debian package spirv-cross",
+    )?;
+    if validate {
+        run(
+            Command::new(validator).arg(&es),
+            &format!("the translation of shaders/{entry} is not valid GLSL ES 3.00 (glslangValidator's errors above)"),
+            "the Debian package glslang-tools",
+        )?;
+    }
+    Ok(es)
 }
 
 /// Runs a tool: `failed` when it fails, naming `package` when it is missing.

@@ -256,8 +256,8 @@ fn mutant_shaders(file: &str, from: &str, to: &str) -> Value {
 /// matrices equal the renderer's; three shaders broken on purpose are caught; a finger's drag orbits; the
 /// page fits a phone's, a tablet's and a laptop's window.
 /// A folder of scenes the browser test serves beside the figures: Figure 3's sphere in a measured material
-/// (Cook-Torrance gold tabulated as a MERL file), Figure 4's gold through ACES and sRGB, and the sky's light,
-/// which the browser does not draw yet.
+/// (Cook-Torrance gold tabulated as a MERL file), Figure 4's gold through ACES and sRGB, two term views, and
+/// the sky's light, which the browser does not draw yet.
 fn more_scenes(folder: &Path) -> std::path::PathBuf {
     let scenes = folder.join("scenes");
     std::fs::create_dir_all(&scenes).unwrap();
@@ -284,6 +284,10 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
     let filmic = gold.replace("tonemap = \"clamp\"\nencoding = \"linear\"", "tonemap = \"aces\"\nencoding = \"srgb\"\nexposure = 1.5");
     assert_ne!(filmic, gold, "Figure 4's output transform is where the test expects it");
     std::fs::write(scenes.join("aces-srgb.toml"), filmic).unwrap();
+    // Two term views: Figure 4's D (scaled to its largest value) and Figure 1's normals.
+    std::fs::write(scenes.join("term-d.toml"), gold.replace("tonemap = \"clamp\"", "view = \"d\"\ntonemap = \"clamp\"")).unwrap();
+    let lambert = std::fs::read_to_string(common::root().join("assets/scenes/fig1-lambert.toml")).unwrap();
+    std::fs::write(scenes.join("term-normal.toml"), lambert.replace("tonemap = \"clamp\"", "view = \"normal\"\ntonemap = \"clamp\"")).unwrap();
     scenes
 }
 
@@ -339,6 +343,8 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
         .collect();
     every.push(("measured-gold".into(), scenes.join("measured-gold.toml")));
     every.push(("aces-srgb".into(), scenes.join("aces-srgb.toml")));
+    every.push(("term-d".into(), scenes.join("term-d.toml")));
+    every.push(("term-normal".into(), scenes.join("term-normal.toml")));
     let mut measured = Vec::new();
     for (id, path) in &every {
         let id = id.as_str();

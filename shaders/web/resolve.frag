@@ -12,7 +12,9 @@
 
 layout(set = 0, binding = 0) uniform sampler2D colour;
 
-layout(push_constant) uniform Resolve { float exposure; uint tonemap; uint encoding; } resolve;
+// A term view (`term` 1) is written as output.rs's TermScale writes it: level = 255 (value - low) /
+// (high - low), linear, truncated and clamped; the page finds the largest value that `high` needs.
+layout(push_constant) uniform Resolve { float exposure; uint tonemap; uint encoding; uint term; float low; float high; } resolve;
 
 layout(location = 0) out vec4 out_levels;
 
@@ -24,6 +26,12 @@ void main() {
     uint t = resolve.tonemap;
     uint k = resolve.encoding;
     // Level k is written as k / 255, which the 8-bit canvas stores as k exactly (round(k / 255 * 255)).
+    if (resolve.term != 0u) {
+        c = (c - resolve.low) / (resolve.high - resolve.low);
+        e = 1.0;
+        t = TONEMAP_CLAMP;
+        k = ENCODING_LINEAR;
+    }
     uvec3 levels = uvec3(output_level(c.r, e, t, k), output_level(c.g, e, t, k), output_level(c.b, e, t, k));
     out_levels = vec4(vec3(levels) / 255.0, 1.0);
 }

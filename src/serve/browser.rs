@@ -19,7 +19,7 @@ use serde_json::{json, Value as Json};
 use vk_render::brdf::Brdf;
 use vk_render::render::gpu_types::{GpuFrame, GpuMaterial, GpuObject};
 use vk_render::render::{cube_face_views, NEAR_PLANE};
-use vk_render::scene::{Encoding, Tonemap, View};
+use vk_render::scene::{Encoding, Tonemap};
 use vk_render::Scene;
 
 use super::catalogue::Entry;
@@ -50,6 +50,10 @@ pub struct BrowserScene {
     pub tonemap: u32,
     /// The encoding: ENCODING_* (0 the course's linear, 1 sRGB).
     pub encoding: u32,
+    /// What the image shows: views.glsl's VIEW (0 the radiance); a term is drawn by the TERM_VIEWS variants.
+    pub view: u32,
+    /// Whether the view is written through a term's scale (output.rs's TermScale), not the output transform.
+    pub term: bool,
     /// The image's background, linear rgb and alpha 1 (the frame's `background`).
     pub background: [f32; 4],
     /// Texels on a side of each face of a light's shadow cube.
@@ -90,17 +94,13 @@ pub struct BrowserObject {
     pub bounds: [[f32; 3]; 2],
 }
 
-/// What the browser cannot draw yet, or None: the scene's environment, its analytic materials, and the term
-/// views.
+/// What the browser cannot draw yet, or None: the scene's environment and its analytic materials.
 fn unsupported(scene: &Scene) -> Option<String> {
     if scene.environment.is_some() {
         return Some("its environment light".into());
     }
     if let Some((name, brdf)) = scene.materials.iter().find(|(_, brdf)| matches!(brdf, Brdf::Analytic(_))) {
         return Some(format!("material {name} ({})", brdf.name()));
-    }
-    if scene.image.view != View::Radiance {
-        return Some("a term view".into());
     }
     None
 }
@@ -160,6 +160,8 @@ pub fn describe(entry: &Entry) -> BrowserScene {
             Encoding::Linear => 0,
             Encoding::Srgb => 1,
         },
+        view: scene.image.view.id(),
+        term: !scene.image.view.is_radiance(),
         background: frame.background,
         shadow_map_size: scene.image.shadow_map_size,
         shadow_filter: u32::from(scene.image.shadow_filter != vk_render::scene::ShadowFilter::Hard),

@@ -173,6 +173,7 @@ class BrowserRenderer {
     const entry = {
       program, object: uniform("draw.object_index"), light: uniform("draw.light_index"), face: uniform("draw.face"),
       exposure: uniform("resolve.exposure"), tonemap: uniform("resolve.tonemap"), encoding: uniform("resolve.encoding"),
+      term: uniform("resolve.term"), low: uniform("resolve.low"), high: uniform("resolve.high"),
     };
     this.programs.set(key, entry);
     return entry;
@@ -427,11 +428,13 @@ class BrowserRenderer {
     gl.bindTexture(gl.TEXTURE_2D_ARRAY, this.shadowMaps.texture);
     browser.objects.forEach((object, index) => {
       const material = state.materials[object.material];
-      // The pipeline's constants (PipelineKey::for_object): BRDF, shadow filter, lights, diffuse lobe.
-      const constants = { 0: `${material.brdf}u`, 1: `${browser.shadow_filter}u`, 2: `${state.lights.length}u`, 3: `${material.diffuse}u` };
+      // The pipeline's constants (PipelineKey::for_object): BRDF, shadow filter, lights, diffuse lobe, view;
+      // a view other than the radiance is drawn by the TERM_VIEWS variant, as the renderer draws it.
+      const constants = { 0: `${material.brdf}u`, 1: `${browser.shadow_filter}u`, 2: `${state.lights.length}u`, 3: `${material.diffuse}u`, 4: `${browser.view}u` };
+      const variant = browser.view === 0 ? "" : "+TERM_VIEWS";
       const entry = object.sphere
-        ? this.program("forward_sphere.vert", "forward_sphere.frag", constants)
-        : this.program("forward.vert", "forward.frag", constants);
+        ? this.program("forward_sphere.vert", `forward_sphere.frag${variant}`, constants)
+        : this.program("forward.vert", `forward.frag${variant}`, constants);
       gl.useProgram(entry.program);
       gl.uniform1ui(entry.object, 0);
       if (this.hidesBackFaces(object, state.camera.position)) gl.enable(gl.CULL_FACE);
@@ -439,6 +442,15 @@ class BrowserRenderer {
       this.drawMesh(scene, index);
     });
     gl.disable(gl.CULL_FACE);
+    // A term's scale (TermScale::of): the normal's [-1, 1]; any other term's [0, the larger of 1 and the
+    // image's largest finite value], read back from the float target.
+    let [low, high] = [0, 1];
+    if (browser.term && browser.view === 1) low = -1;
+    else if (browser.term) {
+      const values = new Float32Array(width * height * 4);
+      gl.readPixels(0, 0, width, height, gl.RGBA, gl.FLOAT, values);
+      for (let i = 0; i < values.length; i++) if (i % 4 !== 3 && Number.isFinite(values[i]) && values[i] > high) high = values[i];
+    }
     // The resolve onto the canvas.
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.deleteFramebuffer(framebuffer);
@@ -448,6 +460,9 @@ class BrowserRenderer {
     gl.uniform1f(resolve.exposure, browser.exposure);
     gl.uniform1ui(resolve.tonemap, browser.tonemap);
     gl.uniform1ui(resolve.encoding, browser.encoding);
+    gl.uniform1ui(resolve.term, browser.term ? 1 : 0);
+    gl.uniform1f(resolve.low, low);
+    gl.uniform1f(resolve.high, Math.fround(high));
     gl.bindTexture(gl.TEXTURE_2D_ARRAY, null);
     gl.bindTexture(gl.TEXTURE_2D, this.colour.texture);
     gl.bindVertexArray(this.emptyVertexArray);
