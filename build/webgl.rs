@@ -75,7 +75,8 @@ fn translate_one(
     let spirv = out.join(format!("{entry}.spv"));
     // The stage stays the last extension, which glslangValidator reads the stage from.
     let stage = relative.rsplit('.').next().unwrap_or_default();
-    let es = out.join(format!("{}{}.es.{stage}", relative.trim_end_matches(&format!(".{stage}")), &entry[relative.len()..]));
+    let es =
+        out.join(format!("{}{}.es.{stage}", relative.trim_end_matches(&format!(".{stage}")), &entry[relative.len()..]));
     std::fs::create_dir_all(spirv.parent().unwrap_or(out)).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut compile = Command::new(glslc);
     compile.current_dir(root).args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", ".", "-DWEBGL"]);
@@ -91,7 +92,12 @@ fn translate_one(
     // location as Vulkan does: each is renamed after its location.
     let direction = if stage == "vert" { "out" } else { "in" };
     for location in 0..INTERFACE_LOCATIONS {
-        translate.args(["--rename-interface-variable", direction, &location.to_string(), &format!("location_{location}")]);
+        translate.args([
+            "--rename-interface-variable",
+            direction,
+            &location.to_string(),
+            &format!("location_{location}"),
+        ]);
     }
     if stage == "vert" {
         translate.arg("--fixup-clipspace");
@@ -114,7 +120,8 @@ fn translate_one(
 /// Runs a tool: `failed` when it fails, naming `package` when it is missing.
 fn run(command: &mut Command, failed: &str, package: &str) -> Result<(), String> {
     let program = command.get_program().to_string_lossy().into_owned();
-    let status = command.status().map_err(|e| format!("cannot run {program} ({e}): install {package} (`make setup`)"))?;
+    let status =
+        command.status().map_err(|e| format!("cannot run {program} ({e}): install {package} (`make setup`)"))?;
     if status.success() {
         Ok(())
     } else {

@@ -208,7 +208,9 @@ fn every_route_answers_as_the_command_line_does() {
     // The browser's files: every translated shader, and each object's mesh as the renderer draws it (Figure
     // 1's plane: the fan of four triangles from its point to four vertices at infinity), by id and index only.
     let shaders = server.get("/static/shaders.json").json();
-    for entry in ["forward.vert", "forward.frag", "forward_sphere.frag", "shadow.vert", "shadow.frag", "web/resolve.frag"] {
+    for entry in
+        ["forward.vert", "forward.frag", "forward_sphere.frag", "shadow.vert", "shadow.frag", "web/resolve.frag"]
+    {
         assert!(shaders[entry].as_str().is_some_and(|t| t.starts_with("#version 300 es\n")), "{entry}");
     }
     let plane = server.get("/api/mesh?scene=fig1-lambert&object=1");
@@ -217,8 +219,16 @@ fn every_route_answers_as_the_command_line_does() {
     assert_eq!((count(0), count(1), plane.body.len()), (5, 12, 8 + 5 * 40 + 12 * 4));
     let described = server.get("/api/scenes").json();
     let fig1 = described.as_array().unwrap().iter().find(|s| s["id"] == "fig1-lambert").unwrap();
-    assert!(fig1["browser"]["unsupported"].is_null() && fig1["browser"]["objects"][1]["sphere"] == json!(false), "{fig1}");
-    for (query, status) in [("scene=../assets/scenes/fig1-lambert&object=0", 404), ("scene=fig1-lambert&object=2", 404), ("scene=fig1-lambert", 400), ("scene=fig1-lambert&object=-1", 400)] {
+    assert!(
+        fig1["browser"]["unsupported"].is_null() && fig1["browser"]["objects"][1]["sphere"] == json!(false),
+        "{fig1}"
+    );
+    for (query, status) in [
+        ("scene=../assets/scenes/fig1-lambert&object=0", 404),
+        ("scene=fig1-lambert&object=2", 404),
+        ("scene=fig1-lambert", 400),
+        ("scene=fig1-lambert&object=-1", 400),
+    ] {
         assert_eq!(server.get(&format!("/api/mesh?{query}")).status, status, "{query}");
     }
     let status = server.get("/api/status").json();

@@ -281,13 +281,24 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
     std::fs::write(scenes.join("sky.toml"), format!("{figure}\n[environment]\nbuiltin = \"sky\"\n")).unwrap();
     // Figure 4's gold through another output transform: exposure, ACES's curve and sRGB's encoding.
     let gold = std::fs::read_to_string(common::root().join("assets/scenes/fig4-gold-metalness-1.0.toml")).unwrap();
-    let filmic = gold.replace("tonemap = \"clamp\"\nencoding = \"linear\"", "tonemap = \"aces\"\nencoding = \"srgb\"\nexposure = 1.5");
+    let filmic = gold.replace(
+        "tonemap = \"clamp\"\nencoding = \"linear\"",
+        "tonemap = \"aces\"\nencoding = \"srgb\"\nexposure = 1.5",
+    );
     assert_ne!(filmic, gold, "Figure 4's output transform is where the test expects it");
     std::fs::write(scenes.join("aces-srgb.toml"), filmic).unwrap();
     // Two term views: Figure 4's D (scaled to its largest value) and Figure 1's normals.
-    std::fs::write(scenes.join("term-d.toml"), gold.replace("tonemap = \"clamp\"", "view = \"d\"\ntonemap = \"clamp\"")).unwrap();
+    std::fs::write(
+        scenes.join("term-d.toml"),
+        gold.replace("tonemap = \"clamp\"", "view = \"d\"\ntonemap = \"clamp\""),
+    )
+    .unwrap();
     let lambert = std::fs::read_to_string(common::root().join("assets/scenes/fig1-lambert.toml")).unwrap();
-    std::fs::write(scenes.join("term-normal.toml"), lambert.replace("tonemap = \"clamp\"", "view = \"normal\"\ntonemap = \"clamp\"")).unwrap();
+    std::fs::write(
+        scenes.join("term-normal.toml"),
+        lambert.replace("tonemap = \"clamp\"", "view = \"normal\"\ntonemap = \"clamp\""),
+    )
+    .unwrap();
     scenes
 }
 
@@ -326,7 +337,10 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
         Duration::from_secs(120),
     );
     let status = browser.run("return document.getElementById('status').textContent;", &[]);
-    assert!(status.as_str().unwrap().contains("the server's frames: your browser does not draw its environment light yet"), "{status}");
+    assert!(
+        status.as_str().unwrap().contains("the server's frames: your browser does not draw its environment light yet"),
+        "{status}"
+    );
     browser.run("chooseScene('fig1-lambert');", &[]);
     let said = browser.run("return page.scene.browser.unsupported;", &[]);
     assert_eq!(said, json!(null), "{said}");
@@ -370,9 +384,27 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
 
     // Shaders broken on purpose, each caught on the scene that shows it.
     let mutants = [
-        ("Oren-Nayar's B term dropped", "brdf/oren_nayar.glsl", "return 0.45 * s2 / (s2 + 0.09);", "return 0.0;", "fig2-oren-nayar-sigma-0.6"),
-        ("the shadow test inverted", "common/shading.glsl", "shadow_distance(direction, layer) < unoccluded ? 0.0 : 1.0", "shadow_distance(direction, layer) < unoccluded ? 1.0 : 0.0", "fig5-golden-bunny"),
-        ("1/d^2 dropped", "common/shading.glsl", "lights[i].radiance.rgb / d2", "lights[i].radiance.rgb", "fig1-lambert"),
+        (
+            "Oren-Nayar's B term dropped",
+            "brdf/oren_nayar.glsl",
+            "return 0.45 * s2 / (s2 + 0.09);",
+            "return 0.0;",
+            "fig2-oren-nayar-sigma-0.6",
+        ),
+        (
+            "the shadow test inverted",
+            "common/shading.glsl",
+            "shadow_distance(direction, layer) < unoccluded ? 0.0 : 1.0",
+            "shadow_distance(direction, layer) < unoccluded ? 1.0 : 0.0",
+            "fig5-golden-bunny",
+        ),
+        (
+            "1/d^2 dropped",
+            "common/shading.glsl",
+            "lights[i].radiance.rgb / d2",
+            "lights[i].radiance.rgb",
+            "fig1-lambert",
+        ),
     ];
     for (name, file, from, to, id) in mutants {
         browser.run(
@@ -392,7 +424,11 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
 
     // A lost WebGL context: the server's frames, and the page says why; restored, the browser's again.
     browser.run("chooseScene('fig1-lambert');", &[]);
-    browser.wait_for("fig1 in the browser", "return page.mode === 'browser' && page.scene.id === 'fig1-lambert';", Duration::from_secs(60));
+    browser.wait_for(
+        "fig1 in the browser",
+        "return page.mode === 'browser' && page.scene.id === 'fig1-lambert';",
+        Duration::from_secs(60),
+    );
     browser.run("page.lose = page.browser.gl.getExtension('WEBGL_lose_context'); page.lose.loseContext();", &[]);
     browser.wait_for(
         "the server's frames after the context was lost",
@@ -415,7 +451,11 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
 
     // A finger's drag orbits the camera, as the mouse's does.
     browser.run("chooseScene('fig3-plastic-s-16');", &[]);
-    browser.wait_for("fig3 in the browser", "return page.mode === 'browser' && page.scene.id === 'fig3-plastic-s-16';", Duration::from_secs(60));
+    browser.wait_for(
+        "fig3 in the browser",
+        "return page.mode === 'browser' && page.scene.id === 'fig3-plastic-s-16';",
+        Duration::from_secs(60),
+    );
     browser.touch_drag("#gl", 80, 20);
     let moved = browser.run("return page.set['camera.position'] || null;", &[]);
     assert!(moved.is_array(), "a finger's drag did not move the camera: {moved}");
@@ -443,7 +483,10 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
             let picture_top = layout["picture"][0].as_f64().unwrap();
             assert!(picture_top < layout["controls"].as_f64().unwrap(), "{name}: the picture is not first: {layout}");
             let picture_width = layout["picture"][1].as_f64().unwrap();
-            assert!(picture_width >= layout["column"].as_f64().unwrap().min(600.0) - 1.0, "{name}: the picture is narrower than its column: {layout}");
+            assert!(
+                picture_width >= layout["column"].as_f64().unwrap().min(600.0) - 1.0,
+                "{name}: the picture is narrower than its column: {layout}"
+            );
         }
         browser.wait_for(
             "the lobe and albedo",

@@ -404,7 +404,11 @@ impl Running {
         if self.pace.presented == 1 {
             // With -v: from here on an edit is seen (the hot-reload test waits for this line).
             let shaders = self.watched.shaders.as_ref().map(|s| format!(" and the shaders of {}", s.display()));
-            log::info!("showing {}: edits to it{} are reloaded", self.scene_path.display(), shaders.unwrap_or_default());
+            log::info!(
+                "showing {}: edits to it{} are reloaded",
+                self.scene_path.display(),
+                shaders.unwrap_or_default()
+            );
         }
         let frame_ms = started.elapsed().as_secs_f64() * 1e3;
         self.window.set_title(&format!("{}{}", self.controls.title(&self.scene, frame_ms), self.shown.describe()));

@@ -209,7 +209,8 @@ impl Files {
 }
 
 fn binary(bytes: Bytes) -> Response {
-    ([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes).into_response()
+    ([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes)
+        .into_response()
 }
 
 fn no_scene(id: &str) -> ApiError {
@@ -230,7 +231,10 @@ pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -
     let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
     let object = query.object;
     if object >= entry.scene.objects.len() {
-        return Err(ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: object {object}: no such object", entry.id)));
+        return Err(ApiError::new(
+            StatusCode::NOT_FOUND,
+            format!("scene {}: object {object}: no such object", entry.id),
+        ));
     }
     let scene = entry.scene.clone();
     let key = format!("mesh {} {object}", entry.id);

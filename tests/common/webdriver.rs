@@ -45,8 +45,14 @@ impl Browser {
         }
         let mut browser = Self { driver, address, session: String::new() };
         let mut args: Vec<String> = [
-            "--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--force-device-scale-factor=1",
-            "--force-color-profile=srgb", "--no-first-run", "--disable-extensions", "--disable-background-networking",
+            "--headless=new",
+            "--no-sandbox",
+            "--disable-dev-shm-usage",
+            "--force-device-scale-factor=1",
+            "--force-color-profile=srgb",
+            "--no-first-run",
+            "--disable-extensions",
+            "--disable-background-networking",
             "--disable-component-update",
         ]
         .into_iter()
@@ -106,12 +112,16 @@ impl Browser {
     pub fn touch_drag(&self, selector: &str, dx: i64, dy: i64) {
         let element = self.session_call("POST", "/element", &json!({"using": "css selector", "value": selector}));
         let origin = element.clone();
-        let mut actions = vec![json!({"type": "pointerMove", "duration": 0, "origin": origin, "x": 0, "y": 0}), json!({"type": "pointerDown", "button": 0})];
+        let mut actions = vec![
+            json!({"type": "pointerMove", "duration": 0, "origin": origin, "x": 0, "y": 0}),
+            json!({"type": "pointerDown", "button": 0}),
+        ];
         for step in 1..=5 {
             actions.push(json!({"type": "pointerMove", "duration": 50, "origin": origin, "x": dx * step / 5, "y": dy * step / 5}));
         }
         actions.push(json!({"type": "pointerUp", "button": 0}));
-        let finger = json!({"type": "pointer", "id": "finger", "parameters": {"pointerType": "touch"}, "actions": actions});
+        let finger =
+            json!({"type": "pointer", "id": "finger", "parameters": {"pointerType": "touch"}, "actions": actions});
         self.session_call("POST", "/actions", &json!({"actions": [finger]}));
         self.session_call("DELETE", "/actions", &Value::Null);
     }
