@@ -141,8 +141,7 @@ fn compile_shaders() {
         // gives the entry `FILE+A+B` (shaders/forward.frag: its environment's light and its term views apart,
         // so that the radiance of scenes without an environment does not make lavapipe read their code).
         let text = std::fs::read_to_string(file).expect("shaders/ is readable");
-        let variants = text.lines().filter_map(|line| line.strip_prefix("// variant: ")).map(str::trim);
-        for variant in std::iter::once(None).chain(variants.map(Some)) {
+        for variant in std::iter::once(None).chain(webgl::variants(&text).map(Some)) {
             let entry = match variant {
                 Some(name) => format!("{relative}+{name}"),
                 None => relative.clone(),
@@ -150,7 +149,7 @@ fn compile_shaders() {
             let spirv = out.join(format!("{entry}.spv"));
             std::fs::create_dir_all(spirv.parent().expect("a file has a folder")).expect("OUT_DIR is writable");
             let mut command = Command::new(&glslc);
-            command.current_dir(&root).args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", "."]);
+            command.current_dir(&root).args(webgl::GLSLC_OPTIONS);
             for name in variant.iter().flat_map(|names| names.split('+')) {
                 command.arg(format!("-D{name}"));
             }

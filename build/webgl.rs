@@ -15,6 +15,16 @@ use std::process::Command;
 /// entry uses.
 const INTERFACE_LOCATIONS: u32 = 8;
 
+/// glslc's options for every entry, the renderer's and the browser's alike: the run-time compiler's
+/// (ShaderCompiler::compile: Vulkan 1.3, SPIR-V 1.5; includes beside the including file, then from shaders/).
+pub const GLSLC_OPTIONS: [&str; 4] = ["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", "."];
+
+/// An entry file's variants, each compiled again with its macros defined: each `// variant: A+B` line's
+/// `A+B` (the entry `FILE+A+B`).
+pub fn variants(text: &str) -> impl Iterator<Item = &str> {
+    text.lines().filter_map(|line| line.strip_prefix("// variant: ")).map(str::trim)
+}
+
 /// Whether a file of shaders/ is an entry shader (a stage's `main`) rather than an included one.
 pub fn is_entry(relative: &str) -> bool {
     ["vert", "frag", "comp"].iter().any(|stage| relative.ends_with(&format!(".{stage}")))
@@ -40,11 +50,7 @@ pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String,
         if !is_entry(&relative) || !text.lines().any(|line| line.trim() == "// webgl") {
             continue;
         }
-        let variants = text
-            .lines()
-            .filter_map(|line| line.strip_prefix("// variant: "))
-            .map(str::trim)
-            .filter(|variant| !variant.split('+').any(|name| name == "WITH_ENVIRONMENT"));
+        let variants = variants(&text).filter(|variant| !variant.split('+').any(|name| name == "WITH_ENVIRONMENT"));
         for variant in std::iter::once(None).chain(variants.map(Some)) {
             let macros: Vec<&str> = variant.iter().flat_map(|v| v.split('+')).collect();
             let entry = variant.map_or(relative.clone(), |v| format!("{relative}+{v}"));
@@ -79,7 +85,7 @@ fn translate_one(
         out.join(format!("{}{}.es.{stage}", relative.trim_end_matches(&format!(".{stage}")), &entry[relative.len()..]));
     std::fs::create_dir_all(spirv.parent().unwrap_or(out)).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut compile = Command::new(glslc);
-    compile.current_dir(root).args(["--target-env=vulkan1.3", "--target-spv=spv1.5", "-I", ".", "-DWEBGL"]);
+    compile.current_dir(root).args(GLSLC_OPTIONS).arg("-DWEBGL");
     compile.args(macros.iter().map(|m| format!("-D{m}")));
     run(
         compile.arg("-o").arg(&spirv).arg(relative),

@@ -121,19 +121,7 @@ fn edited_files_are_reloaded_and_broken_ones_keep_the_last_good_image() {
     ]);
     command.arg("-v");
     let mut child = command.stderr(std::process::Stdio::piped()).stdout(std::process::Stdio::null()).spawn().unwrap();
-    let log = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
-    let reader = {
-        let (log, mut pipe) = (log.clone(), child.stderr.take().unwrap());
-        std::thread::spawn(move || {
-            let mut buffer = [0u8; 4096];
-            while let Ok(n) = std::io::Read::read(&mut pipe, &mut buffer) {
-                if n == 0 {
-                    break;
-                }
-                log.lock().unwrap().push_str(&String::from_utf8_lossy(&buffer[..n]));
-            }
-        })
-    };
+    let (log, reader) = common::server::kept_on_a_thread(child.stderr.take().unwrap());
     let wait_for = |lines: &[&str], after: usize| -> usize {
         let started = std::time::Instant::now();
         loop {

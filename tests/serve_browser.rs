@@ -17,6 +17,7 @@ use common::server::Server;
 use common::webdriver::{base64, base64_encoded, Browser};
 use vk_render::check::catalogue::CATALOGUE;
 use vk_render::check::render_candidates;
+use vk_render::compare::{compare, write_failure_images, Comparison};
 use vk_render::figures::practical_image;
 
 fn save_screenshot(browser: &Browser, name: &str) {
@@ -154,47 +155,14 @@ fn the_explore_and_check_pages_work_in_a_browser() {
 #[path = "../build/webgl.rs"]
 mod webgl;
 
-/// How far the browser's frame is from `vk-render render`'s, in 8-bit levels, over the pixels that are not
-/// `edges`: the mean over every channel, the 99th percentile of each pixel's largest difference, the share of
-/// pixels more than 3 levels off, and the largest.
-#[derive(Debug)]
-struct Agreement {
-    mean: f64,
-    p99: u8,
-    over_3: f64,
-    max: u8,
+/// The issue's bound on the browser's frame against `vk-render render`'s, away from the silhouettes: mean at
+/// most 0.5 levels, p99 at most 2, at most 0.5% of the pixels more than 3 levels off.
+fn within_bound(c: &Comparison) -> bool {
+    c.mean_abs <= 0.5 && c.p99 <= 2 && c.fraction_over_3 <= 0.005
 }
 
-impl Agreement {
-    fn of(browser: &[u8], cli: &image::RgbImage, edges: &[bool]) -> Self {
-        let mut worst = Vec::new();
-        let mut sum = 0u64;
-        for (k, pixel) in cli.pixels().enumerate() {
-            if edges[k] {
-                continue;
-            }
-            let difference = |c: usize| browser[4 * k + c].abs_diff(pixel.0[c]);
-            sum += (0..3).map(|c| u64::from(difference(c))).sum::<u64>();
-            worst.push((0..3).map(difference).max().unwrap_or(0));
-        }
-        worst.sort_unstable();
-        let count = worst.len().max(1);
-        Self {
-            mean: sum as f64 / (3 * count) as f64,
-            p99: worst.get(count * 99 / 100).copied().unwrap_or(0),
-            over_3: worst.iter().filter(|&&d| d > 3).count() as f64 / count as f64,
-            max: worst.last().copied().unwrap_or(0),
-        }
-    }
-
-    /// The issue's bound: mean at most 0.5 levels, p99 at most 2, at most 0.5% of the pixels over 3.
-    fn within_bounds(&self) -> bool {
-        self.mean <= 0.5 && self.p99 <= 2 && self.over_3 <= 0.005
-    }
-}
-
-/// The page's scene `id`, chosen and drawn by the browser: its size and pixels (rows from the top, RGBA).
-fn browser_frame(browser: &Browser, id: &str) -> (u32, u32, Vec<u8>) {
+/// The page's scene `id`, chosen and drawn by the browser: its pixels, read back from the canvas.
+fn browser_frame(browser: &Browser, id: &str) -> image::RgbImage {
     browser.run("page.browser.shadowKey = null; chooseScene(arguments[0]);", &[json!(id)]);
     browser.wait_for(
         &format!("{id} drawn by the browser"),
@@ -211,9 +179,8 @@ fn browser_frame(browser: &Browser, id: &str) -> (u32, u32, Vec<u8>) {
     );
     assert_eq!((frame["id"].as_str(), frame["mode"].as_str()), (Some(id), Some("browser")), "{id}");
     let (width, height) = (frame["width"].as_u64().unwrap() as u32, frame["height"].as_u64().unwrap() as u32);
-    let pixels = base64(frame["pixels"].as_str().unwrap());
-    assert_eq!(pixels.len(), (4 * width * height) as usize, "{id}");
-    (width, height, pixels)
+    let rows = image::RgbaImage::from_raw(width, height, base64(frame["pixels"].as_str().unwrap()));
+    image::DynamicImage::ImageRgba8(rows.expect("4 bytes a pixel, rows from the top")).to_rgb8()
 }
 
 /// `vk-render render` of scene file `scene` (its id `id`) at `width` x `height` with `args`.
@@ -362,24 +329,24 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     let mut measured = Vec::new();
     for (id, path) in &every {
         let id = id.as_str();
-        let (width, height, pixels) = browser_frame(&browser, id);
+        let shown = browser_frame(&browser, id);
+        let (width, height) = shown.dimensions();
         let cli = cli_frame(folder.path(), id, path, width, height, &[]);
         let single = cli_frame(folder.path(), id, path, width, height, &["--samples", "1"]);
         let edges: Vec<bool> = cli.pixels().zip(single.pixels()).map(|(a, b)| a != b).collect();
-        let agreement = Agreement::of(&pixels, &cli, &edges);
-        let to_single = Agreement::of(&pixels, &single, &vec![false; edges.len()]);
+        let agreement = compare(&shown, &cli, &edges);
+        let to_single = compare(&shown, &single, &vec![false; edges.len()]);
         let edge_share = edges.iter().filter(|&&e| e).count() as f64 / edges.len() as f64;
         eprintln!(
-            "{id} {width} x {height}: mean {:.4}, p99 {}, over 3 levels {:.3}%, max {} ({:.2}% of the pixels silhouettes); against 1 sample a pixel, every pixel: mean {:.4}, p99 {}, over 3 {:.3}%, max {}",
-            agreement.mean, agreement.p99, 100.0 * agreement.over_3, agreement.max, 100.0 * edge_share,
-            to_single.mean, to_single.p99, 100.0 * to_single.over_3, to_single.max
+            "{id} {width} x {height}, the silhouettes ({:.2}% of the pixels) aside: {agreement}; against 1 sample a pixel, every pixel: {to_single}",
+            100.0 * edge_share
         );
-        if !agreement.within_bounds() {
-            let shown = image::RgbaImage::from_raw(width, height, pixels.clone()).unwrap();
-            let _ = shown.save(std::env::temp_dir().join(format!("vk-render-browser-{id}.png")));
+        if !within_bound(&agreement) {
+            let folder = std::env::temp_dir().join("vk-render-browser");
+            let _ = write_failure_images(&folder, id, &shown, &cli, &edges);
         }
-        assert!(agreement.within_bounds(), "{id}: the browser's frame against vk-render render: {agreement:?}");
-        measured.push((id.to_string(), width, height, pixels, cli, edges));
+        assert!(within_bound(&agreement), "{id}: the browser's frame against vk-render render: {agreement}");
+        measured.push((id.to_string(), cli, edges));
     }
 
     // Shaders broken on purpose, each caught on the scene that shows it.
@@ -413,11 +380,11 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
              page.browser.programs.clear();",
             &[mutant_shaders(file, from, to)],
         );
-        let (width, height, pixels) = browser_frame(&browser, id);
-        let (_, _, _, _, cli, edges) = measured.iter().find(|m| m.0 == id && m.1 == width && m.2 == height).unwrap();
-        let agreement = Agreement::of(&pixels, cli, edges);
-        eprintln!("mutant, {name}, on {id}: {agreement:?}");
-        assert!(!agreement.within_bounds(), "{name}: not caught on {id} ({agreement:?})");
+        let shown = browser_frame(&browser, id);
+        let (_, cli, edges) = measured.iter().find(|m| m.0 == id && m.1.dimensions() == shown.dimensions()).unwrap();
+        let agreement = compare(&shown, cli, edges);
+        eprintln!("mutant, {name}, on {id}: {agreement}");
+        assert!(!within_bound(&agreement), "{name}: not caught on {id} ({agreement})");
         browser.run("page.browser.shaders = page.browser.original; page.browser.programs.clear();", &[]);
     }
     assert_console_clean(&browser, "explore, every scene");

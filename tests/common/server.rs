@@ -4,7 +4,7 @@
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::process::{Child, Command, Stdio};
-use std::sync::{Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 /// One server at a time: each test's own, so that two do not share the two cores.
@@ -17,7 +17,7 @@ pub struct Server {
     /// What it prints after its address (the sign-in link), line by line.
     printed: Mutex<std::sync::mpsc::Receiver<String>>,
     /// Its standard error so far (read on a thread of its own, so that the server never blocks on it).
-    stderr: std::sync::Arc<Mutex<String>>,
+    stderr: Arc<Mutex<String>>,
     /// That thread, which ends when the server's standard error closes (it has exited).
     stderr_reader: Option<std::thread::JoinHandle<()>>,
     _turn: MutexGuard<'static, ()>,
@@ -62,18 +62,7 @@ impl Server {
         }
         let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("start vk-render serve");
         let stdout = child.stdout.take().expect("its standard output");
-        let stderr = std::sync::Arc::new(Mutex::new(String::new()));
-        let mut pipe = child.stderr.take().expect("its standard error");
-        let kept = stderr.clone();
-        let stderr_reader = std::thread::spawn(move || {
-            let mut buffer = [0u8; 4096];
-            while let Ok(n) = pipe.read(&mut buffer) {
-                if n == 0 {
-                    break;
-                }
-                kept.lock().unwrap_or_else(|p| p.into_inner()).push_str(&String::from_utf8_lossy(&buffer[..n]));
-            }
-        });
+        let (stderr, stderr_reader) = kept_on_a_thread(child.stderr.take().expect("its standard error"));
         let (lines, printed) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             use std::io::BufRead;
@@ -215,6 +204,23 @@ pub fn raw(address: SocketAddr, request: &[u8]) -> Answer {
     stream.set_read_timeout(Some(Duration::from_secs(180))).expect("a read timeout");
     stream.write_all(request).expect("send the request");
     read_answer(&mut stream)
+}
+
+/// What a child writes to `pipe`, kept as it comes, read on a thread of its own (so that the child never
+/// blocks on it), which ends when the pipe closes.
+pub fn kept_on_a_thread(mut pipe: impl Read + Send + 'static) -> (Arc<Mutex<String>>, std::thread::JoinHandle<()>) {
+    let text = Arc::new(Mutex::new(String::new()));
+    let kept = text.clone();
+    let reader = std::thread::spawn(move || {
+        let mut buffer = [0u8; 4096];
+        while let Ok(n) = pipe.read(&mut buffer) {
+            if n == 0 {
+                break;
+            }
+            kept.lock().unwrap_or_else(|p| p.into_inner()).push_str(&String::from_utf8_lossy(&buffer[..n]));
+        }
+    });
+    (text, reader)
 }
 
 /// `METHOD PATH` with `headers` and `body` to `address`, on a connection of its own.

@@ -10,11 +10,13 @@ const page = {
   socket: null,
   sent: 0,         // states sent
   pending: null,   // the header of the frame whose PNG comes next
-  frames: [],      // when the last frames arrived, for the rate shown
+  frames: [],      // when the frames of the last second were shown, for the rate shown
   browser: null,   // the browser's renderer (webgl.js), or null
   noBrowser: "",   // why there is none
   mode: "server",  // who renders this scene's frames: "browser" or "server"
   drawing: false,  // a browser frame is asked for the next animation frame
+  serverReason: "", // why the server renders this scene's frames
+  firstFrame: undefined,  // when the browser drew its first frame, in ms since the page opened (make bench-serve)
 };
 
 const $ = (id) => document.getElementById(id);
@@ -65,14 +67,18 @@ function drawInBrowser() {
     return;
   }
   const canvas = $("gl");
-  // When the first frame was drawn, in ms since the page was opened (make bench-serve reads it).
   if (page.firstFrame === undefined) page.firstFrame = performance.now();
   canvas.dataset.frame = "browser";
   canvas.dataset.scene = page.scene.id;
   canvas.dataset.state = String(page.sent);
+  $("status").textContent = `rendered by your browser (WebGL2): the exact image, ${width} x ${height}, ${framesThisSecond()} frames/s`;
+}
+
+// Counts a frame shown now; the frames shown in the last second.
+function framesThisSecond() {
   const now = performance.now();
   page.frames = page.frames.filter((t) => now - t < 1000).concat([now]);
-  $("status").textContent = `rendered by your browser (WebGL2): the exact image, ${width} x ${height}, ${page.frames.length} frames/s`;
+  return page.frames.length;
 }
 
 // The browser's frame drawn now and its pixels read back (rows from the top, RGBA): for the browser test.
@@ -150,11 +156,10 @@ function draw(header, bitmap) {
   context.drawImage(bitmap, 0, 0, width, height);
   canvas.dataset.frame = header.kind;
   canvas.dataset.state = String(header.state);
-  const now = performance.now();
-  page.frames = page.frames.filter((t) => now - t < 1000).concat([now]);
+  const rate = framesThisSecond();
   $("status").textContent = (header.kind === "still"
     ? `still: the exact image, ${header.width} x ${header.height}`
-    : `moving: ${page.frames.length} frames/s at ${header.width} x ${header.height}, scaled up`) +
+    : `moving: ${rate} frames/s at ${header.width} x ${header.height}, scaled up`) +
     ` (the server's frames: ${page.serverReason})`;
   if (header.kind === "still") showError("");
 }

@@ -105,6 +105,9 @@ function sceneState(scene, set) {
 
 // ---- WebGL2 ----
 
+// Where the server hands out the mesh of `scene`'s object `index` (the key its vertex array is kept by).
+const meshUrl = (scene, index) => `/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${index}`;
+
 class BrowserRenderer {
   // A renderer on `canvas`, or null with the reason when the browser cannot (no WebGL2, no float targets).
   static async create(canvas) {
@@ -183,7 +186,7 @@ class BrowserRenderer {
   async load(scene) {
     const gl = this.gl;
     for (const object of scene.objects) {
-      const url = `/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${object.index}`;
+      const url = meshUrl(scene, object.index);
       if (this.meshes.has(url)) continue;
       const response = await fetch(url);
       if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
@@ -202,7 +205,7 @@ class BrowserRenderer {
       gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indexBuffer);
       gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, new Uint32Array(bytes, 8 + vertices * 40, indices), gl.STATIC_DRAW);
       gl.bindVertexArray(null);
-      this.meshes.set(url, { vertexArray, count: indices, url });
+      this.meshes.set(url, { vertexArray, count: indices });
     }
     await this.loadTables(scene);
     this.shadowKey = null;
@@ -246,9 +249,6 @@ class BrowserRenderer {
     this.tables = { texture, key };
   }
 
-  mesh(scene, index) {
-    return this.meshes.get(`/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${index}`);
-  }
 
   write(block, floats) {
     const gl = this.gl;
@@ -366,7 +366,7 @@ class BrowserRenderer {
 
   drawMesh(scene, index) {
     const gl = this.gl;
-    const mesh = this.mesh(scene, index);
+    const mesh = this.meshes.get(meshUrl(scene, index));
     this.bindObject(index);
     gl.bindVertexArray(mesh.vertexArray);
     gl.drawElements(gl.TRIANGLES, mesh.count, gl.UNSIGNED_INT, 0);
