@@ -25,24 +25,24 @@ pub fn variants(text: &str) -> impl Iterator<Item = &str> {
     text.lines().filter_map(|line| line.strip_prefix("// variant: ")).map(str::trim)
 }
 
+/// Whether the browser draws a variant (`A+B`): all but those of the environment's light (WITH_ENVIRONMENT),
+/// which it does not draw yet.
+pub fn is_browser_variant(variant: &str) -> bool {
+    !variant.split('+').any(|name| name == "WITH_ENVIRONMENT")
+}
+
 /// Whether a file of shaders/ is an entry shader (a stage's `main`) rather than an included one.
 pub fn is_entry(relative: &str) -> bool {
     ["vert", "frag", "comp"].iter().any(|stage| relative.ends_with(&format!(".{stage}")))
 }
 
 /// Translates the `// webgl` entries of the shader tree at `root` into `out`: each entry file's name (relative
-/// to `root`) with the file of its GLSL ES 3.00, or the first tool's failure in one line (its own errors on
-/// the standard error). `validate` checks each text with glslangValidator too.
+/// to `root`) with the file of its GLSL ES 3.00, or the first tool's failure with its messages. `validate` checks each text with glslangValidator too.
 pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String, PathBuf)>, String> {
     let mut files = Vec::new();
     collect(root, &mut files);
     files.sort();
-    let tool = |variable: &str, default: &str| std::env::var(variable).unwrap_or_else(|_| default.into());
-    let tools = Tools {
-        glslc: tool("GLSLC", "glslc"),
-        spirv_cross: tool("SPIRV_CROSS", "spirv-cross"),
-        validator: tool("GLSLANG_VALIDATOR", "glslangValidator"),
-    };
+    let tools = Tools::from_environment();
     let mut translated = Vec::new();
     for file in &files {
         let relative = file.strip_prefix(root).map_err(|e| e.to_string())?.to_string_lossy().replace('\\', "/");
@@ -50,7 +50,7 @@ pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String,
         if !is_entry(&relative) || !text.lines().any(|line| line.trim() == "// webgl") {
             continue;
         }
-        let variants = variants(&text).filter(|variant| !variant.split('+').any(|name| name == "WITH_ENVIRONMENT"));
+        let variants = variants(&text).filter(|variant| is_browser_variant(variant));
         for variant in std::iter::once(None).chain(variants.map(Some)) {
             let macros: Vec<&str> = variant.iter().flat_map(|v| v.split('+')).collect();
             let entry = variant.map_or(relative.clone(), |v| format!("{relative}+{v}"));
@@ -61,10 +61,22 @@ pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String,
 }
 
 /// The tools: glslc, spirv-cross and glslangValidator (each overridden by its environment variable).
-struct Tools {
+pub struct Tools {
     glslc: String,
     spirv_cross: String,
     validator: String,
+}
+
+impl Tools {
+    /// The tools by their names, or those of the variables GLSLC, SPIRV_CROSS and GLSLANG_VALIDATOR.
+    pub fn from_environment() -> Self {
+        let tool = |variable: &str, default: &str| std::env::var(variable).unwrap_or_else(|_| default.into());
+        Self {
+            glslc: tool("GLSLC", "glslc"),
+            spirv_cross: tool("SPIRV_CROSS", "spirv-cross"),
+            validator: tool("GLSLANG_VALIDATOR", "glslangValidator"),
+        }
+    }
 }
 
 /// Entry `relative` compiled with WEBGL and `macros` defined, translated and checked: its GLSL ES file.
@@ -77,22 +89,31 @@ fn translate_one(
     validate: bool,
     tools: &Tools,
 ) -> Result<PathBuf, String> {
-    let Tools { glslc, spirv_cross, validator } = tools;
     let spirv = out.join(format!("{entry}.spv"));
     // The stage stays the last extension, which glslangValidator reads the stage from.
     let stage = relative.rsplit('.').next().unwrap_or_default();
     let es =
         out.join(format!("{}{}.es.{stage}", relative.trim_end_matches(&format!(".{stage}")), &entry[relative.len()..]));
     std::fs::create_dir_all(spirv.parent().unwrap_or(out)).map_err(|e| format!("{}: {e}", out.display()))?;
-    let mut compile = Command::new(glslc);
+    let mut compile = Command::new(&tools.glslc);
     compile.current_dir(root).args(GLSLC_OPTIONS).arg("-DWEBGL");
     compile.args(macros.iter().map(|m| format!("-D{m}")));
     run(
         compile.arg("-o").arg(&spirv).arg(relative),
-        &format!("glslc could not compile shaders/{entry} with WEBGL defined (its errors are above)"),
+        &format!("glslc could not compile shaders/{entry} with WEBGL defined"),
         "the Debian package glslc",
     )?;
-    let mut translate = Command::new(spirv_cross);
+    to_glsl_es(&spirv, &es, entry, validate, tools)?;
+    Ok(es)
+}
+
+/// Translates the SPIR-V file `spirv` of entry `entry` (its stage the last extension of the file's name,
+/// before any `+VARIANT`) to GLSL ES 3.00 in the file `es` (whose last extension must be the stage, which
+/// glslangValidator reads), and checks it with glslangValidator when `validate` is set. Used at build time for
+/// the renderer's entries and at run time for an analytic model's (src/webgl.rs).
+pub fn to_glsl_es(spirv: &Path, es: &Path, entry: &str, validate: bool, tools: &Tools) -> Result<(), String> {
+    let stage = entry.split('+').next().unwrap_or(entry).rsplit('.').next().unwrap_or_default();
+    let mut translate = Command::new(&tools.spirv_cross);
     translate.args(["--es", "--version", "300", "--remove-unused-variables"]);
     // GLSL ES 3.00 matches a vertex shader's outputs to a fragment shader's inputs by name, not by
     // location as Vulkan does: each is renamed after its location.
@@ -109,29 +130,30 @@ fn translate_one(
         translate.arg("--fixup-clipspace");
     }
     run(
-        translate.arg("--output").arg(&es).arg(&spirv),
-        &format!("SPIRV-Cross could not translate shaders/{entry} to GLSL ES 3.00 (its errors are above)"),
+        translate.arg("--output").arg(es).arg(spirv),
+        &format!("SPIRV-Cross could not translate shaders/{entry} to GLSL ES 3.00"),
         "the Debian package spirv-cross",
     )?;
     if validate {
         run(
-            Command::new(validator).arg(&es),
-            &format!("the translation of shaders/{entry} is not valid GLSL ES 3.00 (glslangValidator's errors above)"),
+            Command::new(&tools.validator).arg(es),
+            &format!("the translation of shaders/{entry} is not valid GLSL ES 3.00"),
             "the Debian package glslang-tools",
         )?;
     }
-    Ok(es)
+    Ok(())
 }
 
-/// Runs a tool: `failed` when it fails, naming `package` when it is missing.
+/// Runs a tool: `failed` and the tool's own messages when it fails, naming `package` when it is missing.
 fn run(command: &mut Command, failed: &str, package: &str) -> Result<(), String> {
     let program = command.get_program().to_string_lossy().into_owned();
-    let status =
-        command.status().map_err(|e| format!("cannot run {program} ({e}): install {package} (`make setup`)"))?;
-    if status.success() {
+    let output =
+        command.output().map_err(|e| format!("cannot run {program} ({e}): install {package} (`make setup`)"))?;
+    if output.status.success() {
         Ok(())
     } else {
-        Err(failed.to_string())
+        let said = [&output.stderr[..], &output.stdout[..]].map(String::from_utf8_lossy).join("\n");
+        Err(format!("{failed}: {}", said.trim()))
     }
 }
 

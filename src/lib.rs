@@ -31,6 +31,7 @@ pub mod scene;
 pub mod sheet;
 pub mod text;
 pub mod vulkan;
+pub mod webgl;
 
 pub use error::{Error, Result};
 pub use output::HdrImage;

@@ -152,8 +152,7 @@ fn the_explore_and_check_pages_work_in_a_browser() {
     assert_eq!(code, Some(0), "{stderr}");
 }
 
-#[path = "../build/webgl.rs"]
-mod webgl;
+use vk_render::webgl::translation as webgl;
 
 /// The issue's bound on the browser's frame against `vk-render render`'s, away from the silhouettes: mean at
 /// most 0.5 levels, p99 at most 2, at most 0.5% of the pixels more than 3 levels off.
@@ -161,9 +160,13 @@ fn within_bound(c: &Comparison) -> bool {
     c.mean_abs <= 0.5 && c.p99 <= 2 && c.fraction_over_3 <= 0.005
 }
 
-/// The page's scene `id`, chosen and drawn by the browser: its pixels, read back from the canvas.
-fn browser_frame(browser: &Browser, id: &str) -> image::RgbImage {
-    browser.run("page.browser.shadowKey = null; chooseScene(arguments[0]);", &[json!(id)]);
+/// The page's scene `id` with the overrides `set` (the `--set` keys its controls make), chosen and drawn by the
+/// browser: its pixels, read back from the canvas.
+fn browser_frame(browser: &Browser, id: &str, set: &Value) -> image::RgbImage {
+    browser.run(
+        "page.browser.shadowKey = null; chooseScene(arguments[0]); Object.assign(page.set, arguments[1]);",
+        &[json!(id), set.clone()],
+    );
     browser.wait_for(
         &format!("{id} drawn by the browser"),
         "const c = document.getElementById('gl'); return page.mode === 'browser' && c.dataset.scene === page.scene.id && c.dataset.state === String(page.sent);",
@@ -216,12 +219,24 @@ fn mutant_shaders(file: &str, from: &str, to: &str) -> Value {
     Value::Object(table)
 }
 
-/// The explore page renders every catalogue scene in the browser (WebGL2 on SwiftShader, the renderer's own
-/// shaders translated at build time): each frame, read back from the canvas, against `vk-render render` of
-/// the same state at the same size, within the issue's bound away from the silhouettes (the pixels where
-/// the scene's 4 samples and 1 sample differ: the browser draws 1); the page's own frame and shadow
-/// matrices equal the renderer's; three shaders broken on purpose are caught; a finger's drag orbits; the
-/// page fits a phone's, a tablet's and a laptop's window.
+/// The browser's shaders of every analytic material of scene `id` (in `folder`), translated as the server
+/// translates them (vk_render::webgl::analytic_shaders) but from the embedded shaders with `file`'s `from`
+/// replaced by `to`, named as the page keeps them.
+fn mutant_analytic_shaders(folder: &Path, id: &str, file: &str, from: &str, to: &str) -> Value {
+    let path = folder.join(format!("{id}.toml"));
+    let scene = vk_render::Scene::parse(&std::fs::read_to_string(&path).unwrap(), &path, &[]).unwrap();
+    let sources = vk_render::vulkan::ShaderSources::default().with_replaced(file, from, to).unwrap();
+    let mut table = serde_json::Map::new();
+    for (name, brdf) in &scene.materials {
+        if let vk_render::brdf::Brdf::Analytic(material) = brdf {
+            for (entry, text) in vk_render::webgl::analytic_shaders(material.model(), &sources).unwrap() {
+                table.insert(format!("{entry}@{id}/{name}"), Value::String(text));
+            }
+        }
+    }
+    Value::Object(table)
+}
+
 /// A folder of scenes the browser test serves beside the figures: Figure 3's sphere in a measured material
 /// (Cook-Torrance gold tabulated as a MERL file), Figure 4's gold through ACES and sRGB, two term views, and
 /// the sky's light, which the browser does not draw yet.
@@ -269,11 +284,22 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
     scenes
 }
 
+/// The explore page renders every catalogue scene in the browser (WebGL2 on SwiftShader, the renderer's own
+/// shaders translated at build time): each frame, read back from the canvas, against `vk-render render` of
+/// the same state at the same size, within the issue's bound away from the silhouettes (the pixels where
+/// the scene's 4 samples and 1 sample differ: the browser draws 1); the page's own frame and shadow
+/// matrices equal the renderer's; four shaders broken on purpose are caught; a finger's drag orbits; the
+/// page fits a phone's, a tablet's and a laptop's window.
 #[test]
 fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     let folder = common::temp_dir();
     let scenes = more_scenes(folder.path());
-    let server = Server::start("127.0.0.1:0", &["--workers", "1", "--scenes", scenes.to_str().unwrap()], &[]);
+    let analytic = common::root().join("assets/analytic");
+    let server = Server::start(
+        "127.0.0.1:0",
+        &["--workers", "1", "--scenes", scenes.to_str().unwrap(), "--scenes", analytic.to_str().unwrap()],
+        &[],
+    );
     let browser = Browser::start(1500, 1000);
     let base = format!("http://{}", server.loopback());
     browser.open(&format!("{base}/explore?scene=fig1-lambert"));
@@ -312,33 +338,43 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     let said = browser.run("return page.scene.browser.unsupported;", &[]);
     assert_eq!(said, json!(null), "{said}");
 
-    // Every scene of the catalogue but the sky's, against vk-render render at the picture's size.
-    let mut every: Vec<(String, std::path::PathBuf)> = vk_render::figures::FIGURES
+    // Every scene of the catalogue but the sky's, against vk-render render at the picture's size; the
+    // .brdf models' spheres once more with a float and a colour of theirs moved, as their controls move them.
+    let mut every: Vec<(String, std::path::PathBuf, Value)> = vk_render::figures::FIGURES
         .iter()
         .flat_map(|f| f.images)
         .map(|image| {
             let id = image.file.trim_end_matches(".toml").to_string();
             let path = common::root().join(format!("assets/scenes/{id}.toml"));
-            (id, path)
+            (id, path, json!({}))
         })
         .collect();
-    every.push(("measured-gold".into(), scenes.join("measured-gold.toml")));
-    every.push(("aces-srgb".into(), scenes.join("aces-srgb.toml")));
-    every.push(("term-d".into(), scenes.join("term-d.toml")));
-    every.push(("term-normal".into(), scenes.join("term-normal.toml")));
+    for id in ["measured-gold", "aces-srgb", "term-d", "term-normal"] {
+        every.push((id.into(), scenes.join(format!("{id}.toml")), json!({})));
+    }
+    for id in ["anisotropic-spheres", "brushed-tori"] {
+        every.push((id.into(), analytic.join(format!("{id}.toml")), json!({})));
+    }
+    let moved = json!({"material.brushed.params.alpha_x": 0.3, "material.shirley.params.Rs": [0.2, 0.9, 0.3]});
+    every.push(("anisotropic-spheres".into(), analytic.join("anisotropic-spheres.toml"), moved));
     let mut measured = Vec::new();
-    for (id, path) in &every {
+    for (id, path, set) in &every {
         let id = id.as_str();
-        let shown = browser_frame(&browser, id);
+        let shown = browser_frame(&browser, id, set);
         let (width, height) = shown.dimensions();
-        let cli = cli_frame(folder.path(), id, path, width, height, &[]);
-        let single = cli_frame(folder.path(), id, path, width, height, &["--samples", "1"]);
+        let mut args: Vec<String> = Vec::new();
+        for (key, value) in set.as_object().unwrap() {
+            args.extend(["--set".to_string(), format!("{key}={value}")]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let cli = cli_frame(folder.path(), id, path, width, height, &args);
+        let single = cli_frame(folder.path(), id, path, width, height, &[&args[..], &["--samples", "1"]].concat());
         let edges: Vec<bool> = cli.pixels().zip(single.pixels()).map(|(a, b)| a != b).collect();
         let agreement = compare(&shown, &cli, &edges);
         let to_single = compare(&shown, &single, &vec![false; edges.len()]);
         let edge_share = edges.iter().filter(|&&e| e).count() as f64 / edges.len() as f64;
         eprintln!(
-            "{id} {width} x {height}, the silhouettes ({:.2}% of the pixels) aside: {agreement}; against 1 sample a pixel, every pixel: {to_single}",
+            "{id} {set} {width} x {height}, the silhouettes ({:.2}% of the pixels) aside: {agreement}; against 1 sample a pixel, every pixel: {to_single}",
             100.0 * edge_share
         );
         if !within_bound(&agreement) {
@@ -349,38 +385,43 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
         measured.push((id.to_string(), cli, edges));
     }
 
-    // Shaders broken on purpose, each caught on the scene that shows it.
+    // Shaders broken on purpose, each caught on the scene that shows it: the renderer's (translated at build
+    // time), and an analytic model's (translated by the server).
+    let values = ("analytic_values[k / 4u][k % 4u]", "analytic_values[k / 4u].x");
     let mutants = [
         (
             "Oren-Nayar's B term dropped",
-            "brdf/oren_nayar.glsl",
-            "return 0.45 * s2 / (s2 + 0.09);",
-            "return 0.0;",
             "fig2-oren-nayar-sigma-0.6",
+            mutant_shaders("brdf/oren_nayar.glsl", "return 0.45 * s2 / (s2 + 0.09);", "return 0.0;"),
         ),
         (
             "the shadow test inverted",
-            "common/shading.glsl",
-            "shadow_distance(direction, layer) < unoccluded ? 0.0 : 1.0",
-            "shadow_distance(direction, layer) < unoccluded ? 1.0 : 0.0",
             "fig5-golden-bunny",
+            mutant_shaders(
+                "common/shading.glsl",
+                "shadow_distance(direction, layer) < unoccluded ? 0.0 : 1.0",
+                "shadow_distance(direction, layer) < unoccluded ? 1.0 : 0.0",
+            ),
         ),
         (
             "1/d^2 dropped",
-            "common/shading.glsl",
-            "lights[i].radiance.rgb / d2",
-            "lights[i].radiance.rgb",
             "fig1-lambert",
+            mutant_shaders("common/shading.glsl", "lights[i].radiance.rgb / d2", "lights[i].radiance.rgb"),
+        ),
+        (
+            "an analytic model's values read from the wrong places",
+            "anisotropic-spheres",
+            mutant_analytic_shaders(&analytic, "anisotropic-spheres", "common/analytic.glsl", values.0, values.1),
         ),
     ];
-    for (name, file, from, to, id) in mutants {
+    for (name, id, table) in mutants {
         browser.run(
             "page.browser.original = page.browser.original || page.browser.shaders;
-             page.browser.shaders = arguments[0];
+             page.browser.shaders = Object.assign({}, page.browser.original, arguments[0]);
              page.browser.programs.clear();",
-            &[mutant_shaders(file, from, to)],
+            &[table],
         );
-        let shown = browser_frame(&browser, id);
+        let shown = browser_frame(&browser, id, &json!({}));
         let (_, cli, edges) = measured.iter().find(|m| m.0 == id && m.1.dimensions() == shown.dimensions()).unwrap();
         let agreement = compare(&shown, cli, edges);
         eprintln!("mutant, {name}, on {id}: {agreement}");

@@ -11,11 +11,20 @@
 #endif
 
 // Every analytic material's values, one after the other: a material's `analytic` is where its own begin.
+#ifdef WEBGL
+// The browser (no storage buffers): a uniform block of vec4s, four values each (std140 would pad a float
+// array's every element to 16 bytes), of WebGL2's least uniform block size, 16 kB; the page writes it.
+const uint ANALYTIC_VALUE_VECTORS = 1024u;
+layout(set = 0, binding = ANALYTIC_BINDING, std140) uniform AnalyticParameters { vec4 analytic_values[ANALYTIC_VALUE_VECTORS]; };
+float analytic_parameter(uint k) { return analytic_values[k / 4u][k % 4u]; }
+#else
 layout(set = 0, binding = ANALYTIC_BINDING, std430) readonly buffer AnalyticParameters { float analytic_parameters[]; };
+float analytic_parameter(uint k) { return analytic_parameters[k]; }
 
 // Where a BRDF gave NaN, an infinity or a negative value: how many evaluations did, and the first one's
 // material, directions (in its frame: X, Y, N) and value. The forward pass binds each object's own report (a
-// dynamic offset), so that no two draws write the same memory; the host reads them after the work.
+// dynamic offset), so that no two draws write the same memory; the host reads them after the work. The
+// browser has no atomics and reports nothing: the server's `render` does.
 layout(set = 0, binding = ANALYTIC_REPORT_BINDING, std430) buffer AnalyticReport {
     uint invalid_count;
     uint invalid_material;
@@ -25,6 +34,7 @@ layout(set = 0, binding = ANALYTIC_REPORT_BINDING, std430) buffer AnalyticReport
     vec4 invalid_wo;
     vec4 invalid_value;
 };
+#endif
 
 #include "brdf/analytic.glsl"
 
@@ -43,6 +53,7 @@ vec3 analytic_checked(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {
     vec3 f = analytic_brdf(first, n, t, wi, wo);
     bvec3 invalid = invalid_channels(f);
     if (any(invalid)) {
+#ifndef WEBGL
         if (atomicAdd(invalid_count, 1u) == 0u) {
             vec3 b = cross(n, t);
             invalid_material = first;
@@ -50,6 +61,7 @@ vec3 analytic_checked(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {
             invalid_wo = vec4(dot(wo, t), dot(wo, b), dot(wo, n), 0.0);
             invalid_value = vec4(f, 0.0);
         }
+#endif
 #ifndef ANALYTIC_KEEPS_INVALID
         f = mix(f, vec3(0.0), invalid);
 #endif

@@ -94,13 +94,25 @@ pub struct BrowserObject {
     pub bounds: [[f32; 3]; 2],
 }
 
-/// What the browser cannot draw yet, or None: the scene's environment and its analytic materials.
+/// The most analytic values a scene's materials may have together in the browser: its uniform block's
+/// (ANALYTIC_VALUE_VECTORS of shaders/common/analytic.glsl, four values each).
+const BROWSER_ANALYTIC_VALUES: usize = 4 * 1024;
+
+/// What the browser cannot draw yet, or None: the scene's environment, or more analytic values than its block
+/// holds.
 fn unsupported(scene: &Scene) -> Option<String> {
     if scene.environment.is_some() {
         return Some("its environment light".into());
     }
-    if let Some((name, brdf)) = scene.materials.iter().find(|(_, brdf)| matches!(brdf, Brdf::Analytic(_))) {
-        return Some(format!("material {name} ({})", brdf.name()));
+    let values: usize = scene
+        .materials
+        .values()
+        .map(|brdf| if let Brdf::Analytic(material) = brdf { material.floats().len() } else { 0 })
+        .sum();
+    if values > BROWSER_ANALYTIC_VALUES {
+        return Some(format!(
+            "its analytic materials' {values} values (WebGL2's block holds {BROWSER_ANALYTIC_VALUES})"
+        ));
     }
     None
 }
@@ -114,14 +126,27 @@ fn columns(m: [[f32; 4]; 4]) -> [f32; 16] {
 }
 
 /// A material's `Material` values; a measured one's table is fetched apart ([`measured`]), and the page
-/// numbers the tables it holds.
+/// numbers the tables it holds; an analytic one's values (`analytic_values`, as the renderer's buffer holds
+/// them: `Analytic::floats`) with where each parameter's begin (`analytic_offsets`, by name), its shaders
+/// fetched apart ([`analytic`]).
 fn material(brdf: &Brdf) -> Json {
     let m = GpuMaterial::of_parameters(brdf);
-    json!({
+    let mut material = json!({
         "kd": m.kd, "ks": m.ks, "f0": m.f0, "brdf": m.brdf, "shininess": m.shininess, "sigma": m.sigma,
         "roughness": m.roughness, "metalness": m.metalness, "diffuse": m.diffuse,
         "measured_table": matches!(brdf, Brdf::Measured(_)),
-    })
+    });
+    if let Brdf::Analytic(analytic) = brdf {
+        let mut offsets = serde_json::Map::new();
+        let mut offset = 0;
+        for (parameter, _) in analytic.values() {
+            offsets.insert(parameter.name.clone(), json!(offset));
+            offset += parameter.kind.floats();
+        }
+        material["analytic_values"] = json!(analytic.floats());
+        material["analytic_offsets"] = Json::Object(offsets);
+    }
+    material
 }
 
 /// The browser's data of `entry`'s scene (its meshes are fetched apart: [`mesh`]).
@@ -288,4 +313,33 @@ pub async fn measured(State(app): State<Arc<App>>, Query(query): Query<TableQuer
         .get(key, move || Ok(table.table().rgb.iter().flat_map(|v| v.to_le_bytes()).collect()))
         .await?;
     Ok(binary(bytes))
+}
+
+/// `GET /api/analytic?scene=ID&material=NAME`: an analytic material's browser shaders (the forward passes'
+/// entries and variants with its model: vk_render::webgl::analytic_shaders), one JSON object by entry name,
+/// translated once per model and kept; the page compiles them as it does /static/shaders.json's.
+pub async fn analytic(State(app): State<Arc<App>>, Query(query): Query<TableQuery>) -> Result<Response, ApiError> {
+    let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
+    let Some(Brdf::Analytic(material)) = entry.scene.materials.get(&query.material) else {
+        return Err(ApiError::new(
+            StatusCode::NOT_FOUND,
+            format!(
+                "scene {}: material {}: no analytic material of that name",
+                entry.id,
+                vk_render::files::shortened(&query.material)
+            ),
+        ));
+    };
+    let model = material.model().clone();
+    let key = format!("analytic {:016x}", model.key());
+    let bytes = app
+        .browser_files
+        .get(key, move || {
+            let shaders = vk_render::webgl::analytic_shaders(&model, &Default::default())
+                .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("{}: {e}", model.name())))?;
+            serde_json::to_vec(&shaders)
+                .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("{}: {e}", model.name())))
+        })
+        .await?;
+    Ok(([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "max-age=3600")], bytes).into_response())
 }

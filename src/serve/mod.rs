@@ -195,6 +195,7 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .route("/api/explore", get(explore::explore))
         .route("/api/mesh", get(browser::mesh))
         .route("/api/measured", get(browser::measured))
+        .route("/api/analytic", get(browser::analytic))
         .layer(DefaultBodyLimit::max(api::MAX_JSON_BYTES));
     // The form's own overhead beside the image: its boundaries, headers and the scene's id.
     let upload = Router::new()

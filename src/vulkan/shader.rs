@@ -84,13 +84,14 @@ impl ShaderSources {
         self.files.keys().map(String::as_str)
     }
 
-    fn get(&self, path: &str) -> Option<&str> {
+    /// The text of the file at `path` (relative to shaders/), if there is one.
+    pub fn text(&self, path: &str) -> Option<&str> {
         self.files.get(path).map(String::as_str)
     }
 
     /// Whether these are the sources embedded at build time, unchanged.
     fn are_embedded(&self) -> bool {
-        self.files.len() == EMBEDDED.len() && EMBEDDED.iter().all(|(path, text)| self.get(path) == Some(*text))
+        self.files.len() == EMBEDDED.len() && EMBEDDED.iter().all(|(path, text)| self.text(path) == Some(*text))
     }
 }
 
@@ -174,7 +175,7 @@ impl ShaderCompiler {
             Some("comp") => shaderc::ShaderKind::Compute,
             _ => return Err(error("unknown shader stage (expected .vert, .frag or .comp)".into())),
         };
-        let text = self.sources.get(path).ok_or_else(|| error("no such file under shaders/".into()))?;
+        let text = self.sources.text(path).ok_or_else(|| error("no such file under shaders/".into()))?;
         let mut options =
             shaderc::CompileOptions::new().map_err(|e| error(format!("shaderc options could not be made: {e}")))?;
         options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
@@ -198,7 +199,7 @@ impl ShaderCompiler {
                 .find_map(|candidate| {
                     let content = match (&analytic, candidate.as_str()) {
                         (Some(glsl), ANALYTIC_FILE) => Some(glsl.as_str()),
-                        _ => sources.get(&candidate),
+                        _ => sources.text(&candidate),
                     };
                     content.map(|content| shaderc::ResolvedInclude {
                         resolved_name: candidate.clone(),

@@ -257,8 +257,8 @@ fn renamed(text: &str, declarations: &Declarations) -> String {
 
 /// The GLSL of one model: `brdf/analytic.glsl` as the shaders include it (brdf.glsl, under ANALYTIC_BRDF):
 /// the parameters as globals, the file's shader line for line at its own lines, and
-/// `analytic_brdf(first, n, t, wi, wo)`, which sets the parameters from `analytic_parameters[first...]` (the
-/// buffer brdf.glsl declares) and calls the file's BRDF with X = t, Y = n x t.
+/// `analytic_brdf(first, n, t, wi, wo)`, which sets the parameters from `analytic_parameter(first + k)` (of the
+/// values common/analytic.glsl declares) and calls the file's BRDF with X = t, Y = n x t.
 ///
 /// # Errors
 /// A [`ParseError`] when the shader defines no `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`.
@@ -295,7 +295,7 @@ pub(super) fn wrap(parameters: &[Parameter], shader: &[(usize, String)]) -> Resu
     );
     let mut offset = 0;
     for parameter in parameters {
-        let value = |k: usize| format!("analytic_parameters[first + {}u]", offset + k);
+        let value = |k: usize| format!("analytic_parameter(first + {}u)", offset + k);
         let name = &parameter.name;
         match parameter.kind {
             ParameterKind::Float { .. } => glsl.push_str(&format!("    {PREFIX}{name} = {};\n", value(0))),
@@ -315,7 +315,8 @@ pub(super) fn wrap(parameters: &[Parameter], shader: &[(usize, String)]) -> Resu
 pub(super) fn check_unit(wrapper: &str) -> String {
     format!(
         "#version 460\nlayout(local_size_x = 1) in;\nlayout(set = 0, binding = 0, std430) readonly buffer \
-         AnalyticParameters {{ float analytic_parameters[]; }};\nlayout(set = 0, binding = 1, std430) writeonly \
+         AnalyticParameters {{ float analytic_parameters[]; }};\nfloat analytic_parameter(uint k) {{ return \
+         analytic_parameters[k]; }}\nlayout(set = 0, binding = 1, std430) writeonly \
          buffer Result {{ vec4 result; }};\n{wrapper}void main() {{\n    result = vec4(analytic_brdf(0u, vec3(0.0, \
          0.0, 1.0), vec3(1.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0), vec3(0.0, 0.0, 1.0)), 0.0);\n}}\n"
     )

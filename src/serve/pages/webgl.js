@@ -7,7 +7,7 @@
 "use strict";
 
 // The uniform blocks' bindings, and their sizes in bytes (std140 as shaders/common/scene.glsl declares them).
-const BLOCKS = { Frame: [0, 192], Lights: [1, 16 * 48], Objects: [2, 224], ShadowViews: [3, 96 * 64] };
+const BLOCKS = { Frame: [0, 192], Lights: [1, 16 * 48], Objects: [2, 224], ShadowViews: [3, 96 * 64], AnalyticParameters: [4, 1024 * 16] };
 // shadow.frag's FAR_AWAY: what a shadow texel holds where nothing is.
 const FAR_AWAY = 3.0e38;
 // brdf/measured.glsl's MEASURED_TEXTURE_WIDTH: texels a row of the measured tables' texture, one entry each.
@@ -92,9 +92,15 @@ function sceneState(scene, set) {
   const materials = {};
   for (const [name, base] of Object.entries(scene.browser.materials)) {
     const material = { ...base };
+    if (base.analytic_values) material.analytic_values = [...base.analytic_values];
     for (const parameter of scene.materials[name].parameters) {
-      if (parameter.key in set) {
-        const v = set[parameter.key];
+      if (!(parameter.key in set)) continue;
+      const v = set[parameter.key];
+      if (base.analytic_offsets) {
+        // An analytic value as Analytic::floats lays it: a bool as 0 or 1, a colour's three components.
+        const floats = Array.isArray(v) ? v : parameter.kind === "colour" ? [v, v, v] : [Number(v)];
+        material.analytic_values.splice(base.analytic_offsets[parameter.name], floats.length, ...floats);
+      } else {
         material[parameter.name] = Array.isArray(v) ? [...v, 0] : typeof v === "number" && ["kd", "ks", "f0"].includes(parameter.name) ? [v, v, v, 0] : v;
       }
     }
@@ -104,6 +110,9 @@ function sceneState(scene, set) {
 }
 
 // ---- WebGL2 ----
+
+// The suffix of an analytic material's shaders' names (BrowserRenderer.loadAnalytic); none for another.
+const analyticSuffix = (scene, name) => (scene.browser.materials[name].analytic_values ? `@${scene.id}/${name}` : "");
 
 // Where the server hands out the mesh of `scene`'s object `index` (the key its vertex array is kept by).
 const meshUrl = (scene, index) => `/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${index}`;
@@ -208,7 +217,20 @@ class BrowserRenderer {
       this.meshes.set(url, { vertexArray, count: indices });
     }
     await this.loadTables(scene);
+    await this.loadAnalytic(scene);
     this.shadowKey = null;
+  }
+
+  // The scene's analytic materials' shaders (GET /api/analytic: the forward entries with the material's
+  // model, translated on the server), each kept as `ENTRY@SCENE/MATERIAL` beside the renderer's.
+  async loadAnalytic(scene) {
+    for (const [name, material] of Object.entries(scene.browser.materials)) {
+      if (!material.analytic_values || this.shaders[`forward.frag${analyticSuffix(scene, name)}`]) continue;
+      const url = `/api/analytic?scene=${encodeURIComponent(scene.id)}&material=${encodeURIComponent(name)}`;
+      const response = await fetch(url);
+      if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
+      for (const [entry, text] of Object.entries(await response.json())) this.shaders[entry + analyticSuffix(scene, name)] = text;
+    }
   }
 
   // The scene's measured materials' tables (GET /api/measured), one after the other in one RGB32F texture
@@ -271,8 +293,22 @@ class BrowserRenderer {
     this.write("Lights", new Uint8Array(data));
   }
 
-  // Every object's ObjectData (GpuObject), each at its aligned place in one buffer.
-  writeObjects(scene, state) {
+  // The analytic materials' values one after the other (AnalyticValues::write), and where each one's begin.
+  writeAnalytic(state) {
+    const values = [];
+    const firsts = {};
+    for (const [name, material] of Object.entries(state.materials)) {
+      if (!material.analytic_values) continue;
+      firsts[name] = values.length;
+      values.push(...material.analytic_values);
+    }
+    this.write("AnalyticParameters", new Float32Array(values.length ? values : [0]));
+    return firsts;
+  }
+
+  // Every object's ObjectData (GpuObject), each at its aligned place in one buffer; an analytic material's
+  // `analytic` where its values begin (`firsts`).
+  writeObjects(scene, state, firsts) {
     const gl = this.gl;
     const data = new ArrayBuffer(this.objectStride * scene.browser.objects.length);
     scene.browser.objects.forEach((object, k) => {
@@ -287,7 +323,7 @@ class BrowserRenderer {
       floats.set(m.f0, 40);
       uints[44] = m.brdf;
       floats.set([m.shininess, m.sigma, m.roughness, m.metalness], 45);
-      uints.set([m.diffuse, this.tableSlots[object.material] || 0, 0], 49);
+      uints.set([m.diffuse, this.tableSlots[object.material] || 0, firsts[object.material] || 0], 49);
       uints.set(object.flags, 52);
     });
     gl.bindBuffer(gl.UNIFORM_BUFFER, this.objects);
@@ -389,7 +425,7 @@ class BrowserRenderer {
     gl.frontFace(gl.CW);
     gl.cullFace(gl.BACK);
     this.writeLights(state, browser.shadows);
-    this.writeObjects(scene, state);
+    this.writeObjects(scene, state, this.writeAnalytic(state));
     const shadowKey = JSON.stringify([scene.id, state.lights.map((l) => l.position)]);
     if (shadowKey !== this.shadowKey) {
       this.drawShadows(scene, state);
@@ -432,9 +468,10 @@ class BrowserRenderer {
       // a view other than the radiance is drawn by the TERM_VIEWS variant, as the renderer draws it.
       const constants = { 0: `${material.brdf}u`, 1: `${browser.shadow_filter}u`, 2: `${state.lights.length}u`, 3: `${material.diffuse}u`, 4: `${browser.view}u` };
       const variant = browser.view === 0 ? "" : "+TERM_VIEWS";
+      const model = analyticSuffix(scene, object.material);
       const entry = object.sphere
-        ? this.program("forward_sphere.vert", `forward_sphere.frag${variant}`, constants)
-        : this.program("forward.vert", `forward.frag${variant}`, constants);
+        ? this.program("forward_sphere.vert", `forward_sphere.frag${variant}${model}`, constants)
+        : this.program("forward.vert", `forward.frag${variant}${model}`, constants);
       gl.useProgram(entry.program);
       gl.uniform1ui(entry.object, 0);
       if (this.hidesBackFaces(object, state.camera.position)) gl.enable(gl.CULL_FACE);
