@@ -4,9 +4,10 @@
 //! shader's Vulkan depth range [0, w] made GL's [-w, w]), and the text checked by glslangValidator.
 //! Specialization constants stay as SPIRV-Cross writes them (`SPIRV_CROSS_CONSTANT_ID_n` macros with their
 //! defaults), which the page defines per program. An entry's variants (`// variant: A+B`, as build.rs
-//! compiles them for the renderer) are translated too, as `FILE+A+B`, but those of the environment's light
-//! (WITH_ENVIRONMENT), which the browser does not draw yet. Used by build.rs, and by the browser test, which translates
-//! shaders broken on purpose to show that its comparison catches them.
+//! compiles them for the renderer) are translated too, as `FILE+A+B` (the environment's, WITH_ENVIRONMENT, in
+//! its fast mode alone: common/environment.glsl). Used by build.rs, by the server for an analytic model's
+//! entries (src/webgl.rs), and by the browser test, which translates shaders broken on purpose to show that its
+//! comparison catches them.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -23,12 +24,6 @@ pub const GLSLC_OPTIONS: [&str; 4] = ["--target-env=vulkan1.3", "--target-spv=sp
 /// `A+B` (the entry `FILE+A+B`).
 pub fn variants(text: &str) -> impl Iterator<Item = &str> {
     text.lines().filter_map(|line| line.strip_prefix("// variant: ")).map(str::trim)
-}
-
-/// Whether the browser draws a variant (`A+B`): all but those of the environment's light (WITH_ENVIRONMENT),
-/// which it does not draw yet.
-pub fn is_browser_variant(variant: &str) -> bool {
-    !variant.split('+').any(|name| name == "WITH_ENVIRONMENT")
 }
 
 /// Whether a file of shaders/ is an entry shader (a stage's `main`) rather than an included one.
@@ -50,8 +45,7 @@ pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String,
         if !is_entry(&relative) || !text.lines().any(|line| line.trim() == "// webgl") {
             continue;
         }
-        let variants = variants(&text).filter(|variant| is_browser_variant(variant));
-        for variant in std::iter::once(None).chain(variants.map(Some)) {
+        for variant in std::iter::once(None).chain(variants(&text).map(Some)) {
             let macros: Vec<&str> = variant.iter().flat_map(|v| v.split('+')).collect();
             let entry = variant.map_or(relative.clone(), |v| format!("{relative}+{v}"));
             translated.push((entry.clone(), translate_one(root, out, &relative, &entry, &macros, validate, &tools)?));

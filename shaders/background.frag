@@ -1,4 +1,5 @@
 #version 460
+// webgl
 // variant: WITH_ENVIRONMENT
 
 // The background where no object covers a sample: the scene's background colour, or (the WITH_ENVIRONMENT

@@ -16,8 +16,8 @@ use crate::vulkan::{ShaderCompiler, ShaderSources};
 /// The entries that evaluate a material's BRDF in the browser's passes: the forward passes.
 pub const ANALYTIC_ENTRIES: [&str; 2] = ["forward.frag", "forward_sphere.frag"];
 
-/// `model`'s browser shaders: each of [`ANALYTIC_ENTRIES`] and its variants the browser draws (those
-/// [`translation::translate`] translates), by entry name (`forward.frag+TERM_VIEWS`), compiled from `sources`
+/// `model`'s browser shaders: each of [`ANALYTIC_ENTRIES`] and its variants (as
+/// [`translation::translate`] translates them), by entry name (`forward.frag+TERM_VIEWS`), compiled from `sources`
 /// (the embedded ones but in a test) by shaderc with WEBGL and ANALYTIC_BRDF defined, translated by
 /// SPIRV-Cross and checked by glslangValidator. Most of a second of work: its caller keeps what it made.
 ///
@@ -31,8 +31,7 @@ pub fn analytic_shaders(model: &AnalyticModel, sources: &ShaderSources) -> Resul
     let mut shaders = BTreeMap::new();
     for entry in ANALYTIC_ENTRIES {
         let text = sources.text(entry).unwrap_or_default();
-        let variants = translation::variants(text).filter(|v| translation::is_browser_variant(v));
-        for variant in std::iter::once(None).chain(variants.map(Some)) {
+        for variant in std::iter::once(None).chain(translation::variants(text).map(Some)) {
             let name = variant.map_or(entry.to_string(), |v| format!("{entry}+{v}"));
             let with_webgl = format!("{entry}+WEBGL{}", variant.map_or(String::new(), |v| format!("+{v}")));
             let spirv = compiler.compile_analytic(&with_webgl, model.glsl())?;

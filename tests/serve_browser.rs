@@ -237,12 +237,22 @@ fn mutant_analytic_shaders(folder: &Path, id: &str, file: &str, from: &str, to: 
     Value::Object(table)
 }
 
+/// The scenes of assets/environment/.
+const ENVIRONMENT_SCENES: [&str; 3] = ["spheres-sky", "white-furnace", "golden-bunny-studio"];
+
 /// A folder of scenes the browser test serves beside the figures: Figure 3's sphere in a measured material
 /// (Cook-Torrance gold tabulated as a MERL file), Figure 4's gold through ACES and sRGB, two term views, and
-/// the sky's light, which the browser does not draw yet.
+/// Figure 3 under the sky's light integrated exactly, whose still frame is the server's; and the scenes of
+/// assets/environment/ in the fast mode (`ID-fast`), which the browser draws.
 fn more_scenes(folder: &Path) -> std::path::PathBuf {
     let scenes = folder.join("scenes");
     std::fs::create_dir_all(&scenes).unwrap();
+    for id in ENVIRONMENT_SCENES {
+        let text = std::fs::read_to_string(common::root().join(format!("assets/environment/{id}.toml"))).unwrap();
+        assert_eq!(text.matches("[environment]\n").count(), 1, "{id}");
+        let fast = text.replace("[environment]\n", "[environment]\nmode = \"fast\"\n");
+        std::fs::write(scenes.join(format!("{id}-fast.toml")), fast).unwrap();
+    }
     let gold = vk_render::brdf::Brdf::CookTorrance {
         kd: glam::Vec3::new(1.0, 0.85, 0.57),
         f0: glam::Vec3::new(1.0, 0.85, 0.57),
@@ -288,18 +298,18 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
 /// shaders translated at build time): each frame, read back from the canvas, against `vk-render render` of
 /// the same state at the same size, within the issue's bound away from the silhouettes (the pixels where
 /// the scene's 4 samples and 1 sample differ: the browser draws 1); the page's own frame and shadow
-/// matrices equal the renderer's; four shaders broken on purpose are caught; a finger's drag orbits; the
+/// matrices equal the renderer's; five shaders broken on purpose are caught; a finger's drag orbits; the
 /// page fits a phone's, a tablet's and a laptop's window.
 #[test]
 fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     let folder = common::temp_dir();
     let scenes = more_scenes(folder.path());
     let analytic = common::root().join("assets/analytic");
-    let server = Server::start(
-        "127.0.0.1:0",
-        &["--workers", "1", "--scenes", scenes.to_str().unwrap(), "--scenes", analytic.to_str().unwrap()],
-        &[],
-    );
+    let mut arguments = vec!["--workers", "1"];
+    for folder in [&scenes, &analytic] {
+        arguments.extend(["--scenes", folder.to_str().unwrap()]);
+    }
+    let server = Server::start("127.0.0.1:0", &arguments, &[]);
     let browser = Browser::start(1500, 1000);
     let base = format!("http://{}", server.loopback());
     browser.open(&format!("{base}/explore?scene=fig1-lambert"));
@@ -322,16 +332,18 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
         assert!(error < 1e-5, "{}: the page's frame or shadow views differ from the renderer's by {error}", entry[0]);
     }
 
-    // A scene the browser does not draw yet: the server's frames, and the page says why.
+    // A scene whose environment `render` integrates exactly: the browser draws its motion frames (the fast
+    // mode), and once the controls rest the page shows the server's still frame, and says so.
     browser.run("chooseScene('sky');", &[]);
     browser.wait_for(
-        "the sky's scene from the server",
-        "return page.mode === 'server' && document.getElementById('frame').dataset.frame === 'still';",
-        Duration::from_secs(120),
+        "the sky's still frame from the server",
+        "const f = document.getElementById('frame');
+         return page.mode === 'browser' && page.scene.id === 'sky' && !f.hidden && f.dataset.frame === 'still' && f.dataset.state === String(page.sent);",
+        Duration::from_secs(240),
     );
     let status = browser.run("return document.getElementById('status').textContent;", &[]);
     assert!(
-        status.as_str().unwrap().contains("the server's frames: your browser does not draw its environment light yet"),
+        status.as_str().unwrap().contains("from the server, which integrates the environment's light exactly"),
         "{status}"
     );
     browser.run("chooseScene('fig1-lambert');", &[]);
@@ -339,7 +351,9 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     assert_eq!(said, json!(null), "{said}");
 
     // Every scene of the catalogue but the sky's, against vk-render render at the picture's size; the
-    // .brdf models' spheres once more with a float and a colour of theirs moved, as their controls move them.
+    // .brdf models' spheres once more with a float and a colour of theirs moved, as their controls move them;
+    // the environments' scenes in their fast mode, which the browser draws (the sky's once more with its gold
+    // moved).
     let mut every: Vec<(String, std::path::PathBuf, Value)> = vk_render::figures::FIGURES
         .iter()
         .flat_map(|f| f.images)
@@ -357,6 +371,12 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     }
     let moved = json!({"material.brushed.params.alpha_x": 0.3, "material.shirley.params.Rs": [0.2, 0.9, 0.3]});
     every.push(("anisotropic-spheres".into(), analytic.join("anisotropic-spheres.toml"), moved));
+    for id in ENVIRONMENT_SCENES {
+        every.push((format!("{id}-fast"), scenes.join(format!("{id}-fast.toml")), json!({})));
+    }
+    // A material moved under the environment: its albedo table asked of the server again.
+    let rougher = json!({"material.gold.roughness": 0.6, "material.gold.f0": [0.9, 0.6, 0.3]});
+    every.push(("spheres-sky-fast".into(), scenes.join("spheres-sky-fast.toml"), rougher));
     let mut measured = Vec::new();
     for (id, path, set) in &every {
         let id = id.as_str();
@@ -407,6 +427,15 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
             "1/d^2 dropped",
             "fig1-lambert",
             mutant_shaders("common/shading.glsl", "lights[i].radiance.rgb / d2", "lights[i].radiance.rgb"),
+        ),
+        (
+            "the environment's specular lobe about the normal instead of the mirror direction",
+            "golden-bunny-studio-fast",
+            mutant_shaders(
+                "common/environment.glsl",
+                "prefiltered(mirror(n, wo), lobe_exponent(m))",
+                "prefiltered(n, lobe_exponent(m))",
+            ),
         ),
         (
             "an analytic model's values read from the wrong places",

@@ -23,6 +23,20 @@
 layout(set = 0, binding = 6) uniform sampler2DArray environment_prefiltered;
 const float PREFILTERED_LOBES = 11.0;
 
+struct AlbedoEntry {
+    vec4 diffuse;   // rgb: the diffuse lobe's directional albedo
+    vec4 specular;  // rgb: the specular lobe's
+};
+const uint ALBEDO_TABLE_SIZE = 32u;
+#ifdef WEBGL
+// The browser draws the fast mode alone (its exact mode's sampling table and its loops over thousands of
+// samples a pixel are the server's), and has no storage buffers: the albedo table of the one object drawn is
+// a uniform block, which the page binds to each object's range of one buffer, as the objects' block.
+layout(set = 0, binding = 8, std140) uniform EnvironmentAlbedo { AlbedoEntry environment_albedo[ALBEDO_TABLE_SIZE]; };
+#else
+// ALBEDO_TABLE_SIZE entries an object, entry k at cos(theta_o) = (k + 1/2) / ALBEDO_TABLE_SIZE.
+layout(set = 0, binding = 8, std430) readonly buffer EnvironmentAlbedo { AlbedoEntry environment_albedo[]; };
+
 // The sampling table (src/environment/sampling.rs, src/render/environment.rs): its width and height ((0, 0)
 // for a constant environment, which is not importance-sampled) and the samples a pass of the exact mode takes,
 // then, in 32-bit words: the marginal over rows (height + 1 floats), each row's conditional over its columns
@@ -37,14 +51,6 @@ layout(set = 0, binding = 7, std430) readonly buffer EnvironmentSampling {
     uint sampling_pad;
     uint environment_table[];
 };
-
-struct AlbedoEntry {
-    vec4 diffuse;   // rgb: the diffuse lobe's directional albedo
-    vec4 specular;  // rgb: the specular lobe's
-};
-// ALBEDO_TABLE_SIZE entries an object, entry k at cos(theta_o) = (k + 1/2) / ALBEDO_TABLE_SIZE.
-layout(set = 0, binding = 8, std430) readonly buffer EnvironmentAlbedo { AlbedoEntry environment_albedo[]; };
-const uint ALBEDO_TABLE_SIZE = 32u;
 
 // The f_r the view integrates.
 vec3 view_brdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
@@ -166,6 +172,7 @@ vec3 environment_exact(Material m, vec3 n, vec3 t, vec3 wo) {
     }
     return sum / float(count);
 }
+#endif
 
 // Where the prefiltered layers hold world direction d: u as the map's, v onto their rows, which run from
 // pole to pole (src/environment/prefilter.rs), the first row's centre at v = 0 and the last's at v = 1.
@@ -232,9 +239,11 @@ vec3 environment_fast(Material m, vec3 n, vec3 wo, uint object_index) {
 
 // The environment's light at a point of the object drawn, in the pipeline's mode.
 vec3 environment_light(Material m, vec3 n, vec3 t, vec3 wo) {
+#ifndef WEBGL
     if (ENVIRONMENT == ENVIRONMENT_EXACT) {
         return environment_exact(m, n, t, wo);
     }
+#endif
     if (ENVIRONMENT == ENVIRONMENT_FAST) {
         return environment_fast(m, n, wo, draw.object_index);
     }

@@ -468,8 +468,13 @@ impl Renderer {
     }
 
     /// The directional albedo of `brdf`'s diffuse and specular lobes at each cos(theta_o) of an albedo
-    /// table, by the albedo probe (`brdf_eval` itself); kept for the process.
-    fn albedo_table(&mut self, brdf: &Brdf) -> Result<Vec<GpuAlbedoEntry>> {
+    /// table (`ALBEDO_TABLE_SIZE` entries of the environment's fast mode, common/environment.glsl), by the
+    /// albedo probe (`brdf_eval` itself); kept for the process. The browser's fast mode reads the same
+    /// (`vk-render serve`).
+    ///
+    /// # Errors
+    /// As the albedo probe's work: `Error::Vulkan`, `Error::Shader` for an analytic model's.
+    pub fn albedo_table(&mut self, brdf: &Brdf) -> Result<Vec<GpuAlbedoEntry>> {
         if let Some((_, table)) = self.albedo_tables.iter().find(|(b, _)| b == brdf) {
             return Ok(table.clone());
         }

@@ -355,6 +355,25 @@ pub async fn albedo(
         .await
 }
 
+const ENVIRONMENT_ALBEDO_FIELDS: [&str; 3] = ["material", "scene", "set"];
+
+/// `POST /api/environment-albedo`: the albedo table the environment's fast mode reads for one material
+/// (`Renderer::albedo_table`: its diffuse and specular lobes' directional albedos at the table's 32 cosines),
+/// as the browser's uniform block holds it: `{"table": [...]}`, each entry's diffuse rgb and 0, then its
+/// specular rgb and 0.
+pub async fn environment_albedo(State(app): State<Arc<App>>, body: Bytes) -> Result<Response, ApiError> {
+    let request = json_object(&body, &ENVIRONMENT_ALBEDO_FIELDS)?;
+    let material = material(&app, &request)?;
+    app.workers
+        .run(Lane::Long, move |renderer| {
+            let table = renderer.albedo_table(&material.brdf)?;
+            let floats: Vec<f32> =
+                table.iter().flat_map(|entry| entry.diffuse.into_iter().chain(entry.specular)).collect();
+            Ok(([(header::CONTENT_TYPE, "application/json")], json!({ "table": floats }).to_string()).into_response())
+        })
+        .await
+}
+
 /// `GET /api/reports/ID`: a check's report as JSON, while it is kept.
 pub async fn report(State(app): State<Arc<App>>, UrlPath(id): UrlPath<String>) -> Result<Response, ApiError> {
     let report = app.reports.get(&id).ok_or_else(|| forgotten(&app, &id))?;

@@ -17,9 +17,11 @@ use serde::{Deserialize, Serialize};
 use serde_json::{json, Value as Json};
 
 use vk_render::brdf::Brdf;
+use vk_render::environment::prefilter::{prefiltered_layers, LAYERS, LAYER_WIDTH};
+use vk_render::environment::EnvironmentMap;
 use vk_render::render::gpu_types::{GpuFrame, GpuMaterial, GpuObject};
 use vk_render::render::{cube_face_views, NEAR_PLANE};
-use vk_render::scene::{Encoding, Tonemap};
+use vk_render::scene::{Encoding, EnvironmentMode, Tonemap};
 use vk_render::Scene;
 
 use super::catalogue::Entry;
@@ -72,6 +74,22 @@ pub struct BrowserScene {
     pub frame: Json,
     /// Each light's six shadow views (view-projections, column-major), likewise.
     pub shadow_views: Vec<Vec<[f32; 16]>>,
+    /// The environment's light, if the scene has one: drawn in its fast mode (its map and prefiltered layers
+    /// from [`environment`], each material's albedo table from `POST /api/environment-albedo`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub environment: Option<BrowserEnvironment>,
+}
+
+/// A scene's environment as the browser draws it.
+#[derive(Serialize)]
+pub struct BrowserEnvironment {
+    /// The frame's `environment`: cos and sin of its rotation, its intensity, and 0.
+    pub frame: [f32; 4],
+    /// Whether the background shows it.
+    pub visible: bool,
+    /// Whether its light is integrated in the fast mode in `vk-render render` (else exactly: the browser's
+    /// frames are then motion frames, and the still frame is the server's).
+    pub fast: bool,
 }
 
 /// One object: its `ObjectData` but for the material (named), and how it is drawn.
@@ -98,12 +116,8 @@ pub struct BrowserObject {
 /// (ANALYTIC_VALUE_VECTORS of shaders/common/analytic.glsl, four values each).
 const BROWSER_ANALYTIC_VALUES: usize = 4 * 1024;
 
-/// What the browser cannot draw yet, or None: the scene's environment, or more analytic values than its block
-/// holds.
+/// What the browser cannot draw, or None: more analytic values than its block holds.
 fn unsupported(scene: &Scene) -> Option<String> {
-    if scene.environment.is_some() {
-        return Some("its environment light".into());
-    }
     let values: usize = scene
         .materials
         .values()
@@ -205,6 +219,14 @@ pub fn describe(entry: &Entry) -> BrowserScene {
             .iter()
             .map(|light| cube_face_views(light.position, NEAR_PLANE).iter().map(|m| m.to_cols_array()).collect())
             .collect(),
+        environment: scene.environment.as_ref().map(|environment| {
+            let (sin, cos) = environment.rotation.to_radians().sin_cos();
+            BrowserEnvironment {
+                frame: [cos, sin, environment.intensity, 0.0],
+                visible: environment.visible,
+                fast: environment.mode == EnvironmentMode::Fast,
+            }
+        }),
     }
 }
 
@@ -342,4 +364,41 @@ pub async fn analytic(State(app): State<Arc<App>>, Query(query): Query<TableQuer
         })
         .await?;
     Ok(([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "max-age=3600")], bytes).into_response())
+}
+
+#[derive(Deserialize)]
+pub struct SceneQuery {
+    scene: String,
+}
+
+/// `GET /api/environment?scene=ID`: the scene's environment as the renderer uploads it, little-endian: the
+/// map's width and height, the prefiltered layers' width, height and count (u32 each), then the map's texels
+/// and the layers' (RGB float32 each, rows from the top; src/environment/prefilter.rs), which the page uploads
+/// as float textures (common/environment_map.glsl, common/environment.glsl). Made once per scene.
+pub async fn environment(State(app): State<Arc<App>>, Query(query): Query<SceneQuery>) -> Result<Response, ApiError> {
+    let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
+    let Some(environment) = entry.scene.environment.clone() else {
+        return Err(ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: it has no environment", entry.id)));
+    };
+    let scene = entry.scene.clone();
+    let key = format!("environment {}", entry.id);
+    let bytes = app
+        .browser_files
+        .get(key, move || {
+            // A map file is read from disk (once per process).
+            let map = EnvironmentMap::of(&scene, &environment).map_err(|e| ApiError::from_library(&e))?;
+            let layers = prefiltered_layers(&map);
+            let mut bytes = Vec::with_capacity(20 + 12 * (map.texels.len() + layers.len()));
+            for size in [map.width, map.height, LAYER_WIDTH, LAYER_WIDTH / 2, LAYERS] {
+                bytes.extend(size.to_le_bytes());
+            }
+            for texel in map.texels.iter().chain(&layers) {
+                for value in texel.to_array() {
+                    bytes.extend(value.to_le_bytes());
+                }
+            }
+            Ok(bytes)
+        })
+        .await?;
+    Ok(binary(bytes))
 }

@@ -3,7 +3,8 @@
 //! preview's: half size, one sample, the environment's fast mode) as soon as the workers can, and once the
 //! state has not changed for [`SETTLE`], the still frame: the very PNG `POST /api/render` and `vk-render
 //! render` make. A frame whose state was overtaken before it was sent is dropped: latest wins, and no queue
-//! grows. Each frame is a text message (its kind and size) followed by a binary one (its PNG).
+//! grows. Each frame is a text message (its kind and size) followed by a binary one (its PNG). A page whose
+//! browser draws the motion frames asks for the still frame alone (`"still": true`).
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -33,7 +34,9 @@ pub const MAX_MESSAGE_BYTES: usize = 16 << 10;
 /// closed as a flood.
 pub const MAX_MESSAGES_PER_SECOND: u32 = 240;
 
-const STATE_FIELDS: [&str; 7] = ["scene", "set", "width", "height", "samples", "view", "environment_mode"];
+/// A state's fields: a render request's, and `still` (true: the still frame only, which a page whose browser
+/// draws the motion frames asks for once its controls rest).
+const STATE_FIELDS: [&str; 8] = ["scene", "set", "width", "height", "samples", "view", "environment_mode", "still"];
 
 /// `GET /api/explore`: the WebSocket, for pages of this server only (a browser's Origin must be this
 /// server's own address; a script without an Origin is let through, with the token like any request).
@@ -113,7 +116,7 @@ async fn frames(app: Arc<App>, socket: WebSocket) {
                     continue 'changes;
                 };
                 let id = state.get("scene").and_then(Json::as_str).map(str::to_string);
-                if scene_of_last.is_none() || scene_of_last != id {
+                if scene_of_last.is_none() || scene_of_last != id || state.get("still") == Some(&Json::Bool(true)) {
                     break;
                 }
                 match frame(&app, &state, true).await {

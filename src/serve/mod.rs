@@ -196,6 +196,8 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .route("/api/mesh", get(browser::mesh))
         .route("/api/measured", get(browser::measured))
         .route("/api/analytic", get(browser::analytic))
+        .route("/api/environment", get(browser::environment))
+        .route("/api/environment-albedo", post(api::environment_albedo))
         .layer(DefaultBodyLimit::max(api::MAX_JSON_BYTES));
     // The form's own overhead beside the image: its boundaries, headers and the scene's id.
     let upload = Router::new()

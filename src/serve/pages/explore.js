@@ -17,6 +17,9 @@ const page = {
   drawing: false,  // a browser frame is asked for the next animation frame
   serverReason: "", // why the server renders this scene's frames
   firstFrame: undefined,  // when the browser drew its first frame, in ms since the page opened (make bench-serve)
+  socketSent: 0,   // messages sent on the socket, which numbers its frames so
+  socketStates: [], // the page's state (page.sent) of each message sent on the socket
+  stillTimer: null, // asks the server for the still frame the browser does not draw, once the controls rest
 };
 
 const $ = (id) => document.getElementById(id);
@@ -51,15 +54,34 @@ function sendState() {
   if (!page.socket) connect();
   if (page.socket.readyState !== WebSocket.OPEN) return;
   page.sent += 1;
-  page.socket.send(JSON.stringify(request()));
+  sendOnSocket(false);
   studiesLater();
 }
 
-// The browser's frame of the latest state: the exact image, at the picture's size.
+// Sends the page's state on the socket (the server's frames, or its still frame: `still`), noting which.
+function sendOnSocket(still) {
+  page.socketSent += 1;
+  page.socketStates[page.socketSent] = page.sent;
+  page.socket.send(JSON.stringify({ ...request(), ...(still ? { still: true } : {}) }));
+}
+
+// Whether the browser's frames of this scene are not its exact image: an environment's light that `render`
+// integrates exactly (the browser draws its fast mode). Its still frame is then the server's.
+function stillFromServer() {
+  const environment = page.scene.browser.environment;
+  return Boolean(environment && !environment.fast);
+}
+
+// The browser's frame of the latest state, at the picture's size: the exact image, or a motion frame (see
+// stillFromServer) until the server's still frame comes.
 function drawInBrowser() {
   page.drawing = false;
   if (page.mode !== "browser") return;
   const [width, height] = pictureSize();
+  // An environment's albedo tables of materials that moved come from the server: the frame is drawn again
+  // when they are here (meanwhile with the last ones).
+  const missing = page.browser.missingAlbedo(page.scene, page.set);
+  if (missing) missing.then(sendState, (error) => useServer(`its albedo tables did not come (${error.message})`));
   try {
     page.browser.render(page.scene, page.set, width, height);
   } catch (error) {
@@ -68,10 +90,29 @@ function drawInBrowser() {
   }
   const canvas = $("gl");
   if (page.firstFrame === undefined) page.firstFrame = performance.now();
+  $("frame").hidden = true;
+  canvas.hidden = false;
   canvas.dataset.frame = "browser";
   canvas.dataset.scene = page.scene.id;
-  canvas.dataset.state = String(page.sent);
-  $("status").textContent = `rendered by your browser (WebGL2): the exact image, ${width} x ${height}, ${framesThisSecond()} frames/s`;
+  if (!missing) canvas.dataset.state = String(page.sent);
+  const rate = framesThisSecond();
+  if (stillFromServer()) {
+    $("status").textContent = `moving: rendered by your browser (WebGL2), the environment's fast mode, ${width} x ${height}, ${rate} frames/s; the exact image from the server once the controls rest`;
+    clearTimeout(page.stillTimer);
+    if (!missing) page.stillTimer = setTimeout(askServerStill, SETTLE_MS);
+  } else {
+    $("status").textContent = `rendered by your browser (WebGL2): the exact image, ${width} x ${height}, ${rate} frames/s`;
+  }
+}
+
+// How long the controls rest before the still frame is asked for (the server's SETTLE, src/serve/explore.rs).
+const SETTLE_MS = 150;
+
+// Asks the server for the still frame of the latest state (the browser draws this scene's motion frames).
+function askServerStill() {
+  if (page.mode !== "browser" || !stillFromServer()) return;
+  if (!page.socket) return connect();  // its opening asks
+  if (page.socket.readyState === WebSocket.OPEN) sendOnSocket(true);
 }
 
 // Counts a frame shown now; the frames shown in the last second.
@@ -120,7 +161,14 @@ function connect() {
   const scheme = location.protocol === "https:" ? "wss:" : "ws:";
   const socket = new WebSocket(`${scheme}//${location.host}/api/explore`);
   socket.binaryType = "blob";
-  socket.onopen = () => { if (page.mode === "server") { $("status").textContent = "connected"; sendState(); } };
+  page.socketSent = 0;
+  page.socketStates = [];
+  socket.onopen = () => {
+    if (page.mode === "server") {
+      $("status").textContent = "connected";
+      sendState();
+    } else askServerStill();
+  };
   socket.onclose = (event) => {
     page.socket = null;
     if (page.mode !== "server") return;
@@ -136,8 +184,16 @@ function connect() {
     }
     const header = page.pending;
     page.pending = null;
-    if (!header || page.mode !== "server") return;
+    if (!header) return;
+    // The page's state the frame is of.
+    header.state = page.socketStates[header.state];
+    if (page.mode === "browser" && !(header.kind === "still" && header.state === page.sent && stillFromServer())) return;
     const bitmap = await createImageBitmap(event.data);
+    if (page.mode === "browser" && header.state !== page.sent) return;  // the controls moved meanwhile
+    if (page.mode === "browser") {
+      $("gl").hidden = true;
+      $("frame").hidden = false;
+    }
     draw(header, bitmap);
   };
   page.socket = socket;
@@ -160,7 +216,9 @@ function draw(header, bitmap) {
   $("status").textContent = (header.kind === "still"
     ? `still: the exact image, ${header.width} x ${header.height}`
     : `moving: ${rate} frames/s at ${header.width} x ${header.height}, scaled up`) +
-    ` (the server's frames: ${page.serverReason})`;
+    (page.mode === "browser"
+      ? " (from the server, which integrates the environment's light exactly; your browser draws its fast mode while the controls move)"
+      : ` (the server's frames: ${page.serverReason})`);
   if (header.kind === "still") showError("");
 }
 

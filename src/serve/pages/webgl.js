@@ -6,8 +6,13 @@
 // browser test holds the frame and shadow views it makes to the server's (tests/serve_browser.rs).
 "use strict";
 
+// common/environment.glsl's ALBEDO_TABLE_SIZE: entries of a material's albedo table, each two vec4.
+const ALBEDO_TABLE_SIZE = 32;
 // The uniform blocks' bindings, and their sizes in bytes (std140 as shaders/common/scene.glsl declares them).
-const BLOCKS = { Frame: [0, 192], Lights: [1, 16 * 48], Objects: [2, 224], ShadowViews: [3, 96 * 64], AnalyticParameters: [4, 1024 * 16] };
+const BLOCKS = {
+  Frame: [0, 192], Lights: [1, 16 * 48], Objects: [2, 224], ShadowViews: [3, 96 * 64], AnalyticParameters: [4, 1024 * 16],
+  EnvironmentAlbedo: [5, ALBEDO_TABLE_SIZE * 32],
+};
 // shadow.frag's FAR_AWAY: what a shadow texel holds where nothing is.
 const FAR_AWAY = 3.0e38;
 // brdf/measured.glsl's MEASURED_TEXTURE_WIDTH: texels a row of the measured tables' texture, one entry each.
@@ -114,6 +119,9 @@ function sceneState(scene, set) {
 // The suffix of an analytic material's shaders' names (BrowserRenderer.loadAnalytic); none for another.
 const analyticSuffix = (scene, name) => (scene.browser.materials[name].analytic_values ? `@${scene.id}/${name}` : "");
 
+// The texture units of the shaders' samplers (the resolve's colour shares the shadow cubes' unit).
+const TEXTURE_UNITS = { shadow_maps: 0, measured_tables: 1, environment_map: 2, environment_prefiltered: 3, colour: 0 };
+
 // Where the server hands out the mesh of `scene`'s object `index` (the key its vertex array is kept by).
 const meshUrl = (scene, index) => `/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${index}`;
 
@@ -124,7 +132,10 @@ class BrowserRenderer {
     if (!gl) return { renderer: null, reason: "this browser has no WebGL2" };
     if (!gl.getExtension("EXT_color_buffer_float")) return { renderer: null, reason: "this browser's WebGL2 cannot render to float targets" };
     const shaders = await getJson("/static/shaders.json");
-    return { renderer: new BrowserRenderer(gl, shaders), reason: null };
+    const renderer = new BrowserRenderer(gl, shaders);
+    // An environment's map and layers are read with linear filtering, as the renderer's sampler reads them.
+    renderer.filtersFloats = Boolean(gl.getExtension("OES_texture_float_linear"));
+    return { renderer, reason: null };
   }
 
   constructor(gl, shaders) {
@@ -143,6 +154,9 @@ class BrowserRenderer {
     const alignment = gl.getParameter(gl.UNIFORM_BUFFER_OFFSET_ALIGNMENT);
     this.objectStride = Math.ceil(BLOCKS.Objects[1] / alignment) * alignment;
     this.objects = gl.createBuffer();
+    this.albedoStride = Math.ceil(BLOCKS.EnvironmentAlbedo[1] / alignment) * alignment;
+    this.albedoBuffer = gl.createBuffer();
+    this.albedoTables = new Map();
     this.shadowKey = null;
     this.emptyVertexArray = gl.createVertexArray();
   }
@@ -176,8 +190,7 @@ class BrowserRenderer {
       if (index !== gl.INVALID_INDEX) gl.uniformBlockBinding(program, index, binding);
     }
     gl.useProgram(program);
-    // Texture units: the shadow cubes 0, the measured tables 1, the resolve's colour 0.
-    for (const [name, unit] of [["shadow_maps", 0], ["measured_tables", 1], ["colour", 0]]) {
+    for (const [name, unit] of Object.entries(TEXTURE_UNITS)) {
       const location = gl.getUniformLocation(program, name);
       if (location) gl.uniform1i(location, unit);
     }
@@ -218,7 +231,85 @@ class BrowserRenderer {
     }
     await this.loadTables(scene);
     await this.loadAnalytic(scene);
+    await this.loadEnvironment(scene);
     this.shadowKey = null;
+  }
+
+  // The scene's environment (GET /api/environment): its map (unit 2) and its prefiltered layers (unit 3),
+  // float textures read linearly, wrapping in u and clamped in v as the renderer's sampler reads them; and
+  // every material's albedo table at the scene's own values.
+  async loadEnvironment(scene) {
+    if (!scene.browser.environment) return;
+    if (!this.filtersFloats) throw new Error("this browser's WebGL2 cannot filter float textures (OES_texture_float_linear)");
+    const gl = this.gl;
+    if (!this.environment || this.environment.scene !== scene.id) {
+      const url = `/api/environment?scene=${encodeURIComponent(scene.id)}`;
+      const response = await fetch(url);
+      if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
+      const bytes = await response.arrayBuffer();
+      const [width, height, layerWidth, layerHeight, layers] = new Uint32Array(bytes, 0, 5);
+      const texture = (target, unit, upload) => {
+        const t = gl.createTexture();
+        gl.activeTexture(gl.TEXTURE0 + unit);
+        gl.bindTexture(target, t);
+        upload();
+        for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(target, p, gl.LINEAR);
+        gl.texParameteri(target, gl.TEXTURE_WRAP_S, gl.REPEAT);
+        gl.texParameteri(target, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+        gl.texParameteri(target, gl.TEXTURE_WRAP_R, gl.CLAMP_TO_EDGE);
+        gl.activeTexture(gl.TEXTURE0);
+        return t;
+      };
+      const mapTexels = new Float32Array(bytes, 20, width * height * 3);
+      const layerTexels = new Float32Array(bytes, 20 + mapTexels.byteLength, layerWidth * layerHeight * layers * 3);
+      if (this.environment) [this.environment.map, this.environment.layers].forEach((t) => gl.deleteTexture(t));
+      this.environment = {
+        scene: scene.id,
+        map: texture(gl.TEXTURE_2D, TEXTURE_UNITS.environment_map, () => gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB32F, width, height, 0, gl.RGB, gl.FLOAT, mapTexels)),
+        layers: texture(gl.TEXTURE_2D_ARRAY, TEXTURE_UNITS.environment_prefiltered, () => gl.texImage3D(gl.TEXTURE_2D_ARRAY, 0, gl.RGB32F, layerWidth, layerHeight, layers, 0, gl.RGB, gl.FLOAT, layerTexels)),
+      };
+    }
+    const wanted = this.missingAlbedo(scene, {});
+    if (wanted) await wanted;
+  }
+
+  // The albedo tables of the materials of `set`'s state that the page does not hold yet, asked of the server
+  // (POST /api/environment-albedo: Renderer::albedo_table, which the renderer's fast mode reads): a promise
+  // of them all, or null when every table is held. A frame drawn meanwhile reads the last table that came.
+  missingAlbedo(scene, set) {
+    if (!scene.browser.environment) return null;
+    const state = sceneState(scene, set);
+    const pending = [];
+    for (const name of new Set(scene.browser.objects.map((o) => o.material))) {
+      const key = JSON.stringify([scene.id, state.materials[name]]);
+      const held = this.albedoTables.get(name) || { key: null, table: null, asked: null };
+      if (held.key === key) continue;
+      if (!held.asked || held.asked.key !== key) {
+        const body = JSON.stringify({ scene: scene.id, material: name, set });
+        const promise = fetch("/api/environment-albedo", { method: "POST", body }).then(async (response) => {
+          if (!response.ok) throw new Error(`/api/environment-albedo: ${(await response.text()).trim()}`);
+          const now = this.albedoTables.get(name);
+          Object.assign(now, { key, table: new Float32Array((await response.json()).table) });
+          if (now.asked && now.asked.key === key) now.asked = null;
+        });
+        held.asked = { key, promise };
+        this.albedoTables.set(name, held);
+      }
+      pending.push(held.asked.promise);
+    }
+    return pending.length ? Promise.all(pending) : null;
+  }
+
+  // Every object's albedo table (the latest its material has), each at its aligned place in one buffer.
+  writeAlbedo(scene) {
+    const gl = this.gl;
+    const data = new Float32Array((this.albedoStride / 4) * scene.browser.objects.length);
+    scene.browser.objects.forEach((object, k) => {
+      const held = this.albedoTables.get(object.material);
+      if (held && held.table) data.set(held.table, (this.albedoStride / 4) * k);
+    });
+    gl.bindBuffer(gl.UNIFORM_BUFFER, this.albedoBuffer);
+    gl.bufferData(gl.UNIFORM_BUFFER, data, gl.DYNAMIC_DRAW);
   }
 
   // The scene's analytic materials' shaders (GET /api/analytic: the forward entries with the material's
@@ -333,6 +424,7 @@ class BrowserRenderer {
   bindObject(k) {
     const gl = this.gl;
     gl.bindBufferRange(gl.UNIFORM_BUFFER, BLOCKS.Objects[0], this.objects, this.objectStride * k, BLOCKS.Objects[1]);
+    if (this.albedoBound) gl.bindBufferRange(gl.UNIFORM_BUFFER, BLOCKS.EnvironmentAlbedo[0], this.albedoBuffer, this.albedoStride * k, BLOCKS.EnvironmentAlbedo[1]);
   }
 
   // The float depth buffer of a target of width x height (one kept, made anew when the size changes).
@@ -440,8 +532,10 @@ class BrowserRenderer {
     f.set(camera.camera_position, 32);
     f.set(browser.background, 36);
     f[40] = 2 / browser.shadow_map_size;
-    f.set([1, 0, 0, 0], 44);
+    f.set(browser.environment ? browser.environment.frame : [1, 0, 0, 0], 44);
     this.write("Frame", new Uint8Array(frame));
+    if (browser.environment) this.writeAlbedo(scene);
+    this.albedoBound = Boolean(browser.environment);
     // The forward pass into a float target, one sample a pixel.
     if (!this.colour || this.colour.width !== width || this.colour.height !== height) {
       if (this.colour) gl.deleteTexture(this.colour.texture);
@@ -460,14 +554,32 @@ class BrowserRenderer {
     gl.clearBufferfv(gl.DEPTH, 0, [0]);
     gl.activeTexture(gl.TEXTURE1);
     gl.bindTexture(gl.TEXTURE_2D, this.tables ? this.tables.texture : null);
+    if (browser.environment) {
+      gl.activeTexture(gl.TEXTURE0 + TEXTURE_UNITS.environment_map);
+      gl.bindTexture(gl.TEXTURE_2D, this.environment.map);
+      gl.activeTexture(gl.TEXTURE0 + TEXTURE_UNITS.environment_prefiltered);
+      gl.bindTexture(gl.TEXTURE_2D_ARRAY, this.environment.layers);
+    }
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D_ARRAY, this.shadowMaps.texture);
+    // A visible environment is the background (background.frag's WITH_ENVIRONMENT variant, ENVIRONMENT 1),
+    // drawn first and under everything.
+    if (browser.environment && browser.environment.visible) {
+      gl.disable(gl.DEPTH_TEST);
+      gl.useProgram(this.program("background.vert", "background.frag+WITH_ENVIRONMENT", { 5: "1u" }).program);
+      gl.bindVertexArray(this.emptyVertexArray);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      gl.bindVertexArray(null);
+      gl.enable(gl.DEPTH_TEST);
+    }
     browser.objects.forEach((object, index) => {
       const material = state.materials[object.material];
       // The pipeline's constants (PipelineKey::for_object): BRDF, shadow filter, lights, diffuse lobe, view;
       // a view other than the radiance is drawn by the TERM_VIEWS variant, as the renderer draws it.
+      // An environment's light in its fast mode (ENVIRONMENT 2), by the WITH_ENVIRONMENT variants.
       const constants = { 0: `${material.brdf}u`, 1: `${browser.shadow_filter}u`, 2: `${state.lights.length}u`, 3: `${material.diffuse}u`, 4: `${browser.view}u` };
-      const variant = browser.view === 0 ? "" : "+TERM_VIEWS";
+      if (browser.environment) constants[5] = "2u";
+      const variant = (browser.environment ? "+WITH_ENVIRONMENT" : "") + (browser.view === 0 ? "" : "+TERM_VIEWS");
       const model = analyticSuffix(scene, object.material);
       const entry = object.sphere
         ? this.program("forward_sphere.vert", `forward_sphere.frag${variant}${model}`, constants)
