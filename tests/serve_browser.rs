@@ -496,6 +496,31 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     browser.touch_drag("#gl", 80, 20);
     let moved = browser.run("return page.set['camera.position'] || null;", &[]);
     assert!(moved.is_array(), "a finger's drag did not move the camera: {moved}");
+    // Once the controls rest, the still frame at the picture's size; a motion frame is half as large and
+    // shown scaled up to the same place.
+    browser.wait_for(
+        "the still frame after the drag",
+        "const c = document.getElementById('gl'); return c.dataset.frame === 'still' && c.dataset.state === String(page.sent) && c.width === pictureSize()[0];",
+        Duration::from_secs(60),
+    );
+    let motion = browser.run(
+        "drawInBrowser(true); const c = document.getElementById('gl');
+         return [c.dataset.frame, c.width, c.height, Math.round(c.getBoundingClientRect().width), ...pictureSize()];",
+        &[],
+    );
+    let [picture_width, picture_height] = [motion[4].as_u64().unwrap(), motion[5].as_u64().unwrap()];
+    assert_eq!(
+        motion,
+        json!([
+            "motion",
+            picture_width.div_ceil(2),
+            picture_height.div_ceil(2),
+            picture_width,
+            picture_width,
+            picture_height
+        ]),
+        "a motion frame: its kind, its size, its width on the page, the picture's size"
+    );
 
     // Every screen: the picture first, as wide as the window allows, no sideways scroll.
     for (width, height, name) in [(390, 844, "phone"), (768, 1024, "tablet"), (1280, 800, "laptop")] {

@@ -19,7 +19,8 @@ const page = {
   firstFrame: undefined,  // when the browser drew its first frame, in ms since the page opened (make bench-serve)
   socketSent: 0,   // messages sent on the socket, which numbers its frames so
   socketStates: [], // the page's state (page.sent) of each message sent on the socket
-  stillTimer: null, // asks the server for the still frame the browser does not draw, once the controls rest
+  restTimer: null, // draws the browser's still frame once the controls rest
+  statusShown: 0,  // when the status line was last written
 };
 
 const $ = (id) => document.getElementById(id);
@@ -41,12 +42,19 @@ function request() {
   return { scene: page.scene.id, set: page.set, width, height };
 }
 
-function sendState() {
+// The page's state changed: its frame, in the browser (a motion frame at the next animation frame, the
+// still frame once the controls rest; `still`: at once, a scene's first) or from the server.
+function sendState(still) {
   if (page.mode === "browser") {
     page.sent += 1;
-    if (!page.drawing) {
-      page.drawing = true;
-      requestAnimationFrame(drawInBrowser);
+    clearTimeout(page.restTimer);
+    if (still === true) drawInBrowser(false);
+    else {
+      if (!page.drawing) {
+        page.drawing = true;
+        requestAnimationFrame(() => drawInBrowser(true));
+      }
+      page.restTimer = setTimeout(() => drawInBrowser(false), SETTLE_MS);
     }
     studiesLater();
     return;
@@ -72,41 +80,60 @@ function stillFromServer() {
   return Boolean(environment && !environment.fast);
 }
 
-// The browser's frame of the latest state, at the picture's size: the exact image, or a motion frame (see
-// stillFromServer) until the server's still frame comes.
-function drawInBrowser() {
+// How long the controls rest before the still frame is drawn or asked for (the server's SETTLE,
+// src/serve/explore.rs).
+const SETTLE_MS = 150;
+// A motion frame's size, a fraction of the picture's: the server's motion frames' (src/frames.rs,
+// MOTION_SCALE), scaled up to the picture by the page. A CPU's WebGL (SwiftShader) shades a pixel of the
+// bunny's one-pixel triangles several times over (2 x 2 quads): half the size, a third of the time.
+const MOTION_SCALE = 2;
+// How often the status line is written while a control moves (the page's layout costs a frame's tenth).
+const MOTION_STATUS_MS = 250;
+
+// The browser's frame of the latest state: while a control moves (`motion`), at half the picture's size and
+// scaled up; otherwise the still frame, at the picture's size: the exact image, or (see stillFromServer) the
+// environment's fast mode until the server's still frame comes.
+function drawInBrowser(motion) {
   page.drawing = false;
   if (page.mode !== "browser") return;
   const [width, height] = pictureSize();
-  // An environment's albedo tables of materials that moved come from the server: the frame is drawn again
-  // when they are here (meanwhile with the last ones).
+  const scale = motion ? MOTION_SCALE : 1;
+  // An environment's albedo tables of materials that moved come from the server: the still frame is drawn
+  // again when they are here (meanwhile with the last ones).
   const missing = page.browser.missingAlbedo(page.scene, page.set);
-  if (missing) missing.then(sendState, (error) => useServer(`its albedo tables did not come (${error.message})`));
+  const state = page.sent;
+  if (missing) {
+    missing.then(() => { if (page.sent === state && !motion) drawInBrowser(false); },
+      (error) => useServer(`its albedo tables did not come (${error.message})`));
+  }
   try {
-    page.browser.render(page.scene, page.set, width, height);
+    page.browser.render(page.scene, page.set, Math.ceil(width / scale), Math.ceil(height / scale));
   } catch (error) {
     useServer(`your browser could not draw it (${error.message})`);
     return;
   }
   const canvas = $("gl");
+  canvas.style.width = `${width}px`;
   if (page.firstFrame === undefined) page.firstFrame = performance.now();
   $("frame").hidden = true;
   canvas.hidden = false;
-  canvas.dataset.frame = "browser";
+  canvas.dataset.frame = motion ? "motion" : "still";
   canvas.dataset.scene = page.scene.id;
-  if (!missing) canvas.dataset.state = String(page.sent);
+  if (!missing && !motion) canvas.dataset.state = String(state);
   const rate = framesThisSecond();
+  const now = performance.now();
+  if (motion && now - (page.statusShown || 0) < MOTION_STATUS_MS) return;
+  page.statusShown = now;
+  const size = motion ? `${Math.ceil(width / scale)} x ${Math.ceil(height / scale)} scaled up` : `${width} x ${height}`;
   if (stillFromServer()) {
-    $("status").textContent = `moving: rendered by your browser (WebGL2), the environment's fast mode, ${width} x ${height}, ${rate} frames/s; the exact image from the server once the controls rest`;
-    clearTimeout(page.stillTimer);
-    if (!missing) page.stillTimer = setTimeout(askServerStill, SETTLE_MS);
+    $("status").textContent = `rendered by your browser (WebGL2), the environment's fast mode, ${size}, ${rate} frames/s; the exact image from the server once the controls rest`;
+    if (!missing && !motion) askServerStill();
   } else {
-    $("status").textContent = `rendered by your browser (WebGL2): the exact image, ${width} x ${height}, ${rate} frames/s`;
+    $("status").textContent = motion
+      ? `moving: rendered by your browser (WebGL2), ${size}, ${rate} frames/s`
+      : `rendered by your browser (WebGL2): the exact image, ${size}`;
   }
 }
-
-// How long the controls rest before the still frame is asked for (the server's SETTLE, src/serve/explore.rs).
-const SETTLE_MS = 150;
 
 // Asks the server for the still frame of the latest state (the browser draws this scene's motion frames).
 function askServerStill() {
@@ -124,7 +151,7 @@ function framesThisSecond() {
 
 // The browser's frame drawn now and its pixels read back (rows from the top, RGBA): for the browser test.
 function browserPixels() {
-  drawInBrowser();
+  drawInBrowser(false);
   return page.browser.pixels();
 }
 
@@ -154,7 +181,7 @@ async function chooseRenderer() {
   page.mode = "browser";
   $("frame").hidden = true;
   $("gl").hidden = false;
-  sendState();
+  sendState(true);
 }
 
 function connect() {
