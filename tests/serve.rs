@@ -223,7 +223,14 @@ fn every_route_answers_as_the_command_line_does() {
         fig1["browser"]["unsupported"].is_null() && fig1["browser"]["objects"][1]["sphere"] == json!(false),
         "{fig1}"
     );
+    // The bunny's lighter mesh for motion frames (at most 16,384 triangles), and none for the plane.
+    let bunny = described.as_array().unwrap().iter().find(|s| s["id"] == "fig5-golden-bunny").unwrap();
+    assert_eq!(bunny["browser"]["objects"][0]["motion_mesh"], json!(true), "{bunny}");
+    let light = server.get("/api/mesh?scene=fig5-golden-bunny&object=0&motion=true");
+    let triangles = u32::from_le_bytes(light.body[4..8].try_into().unwrap()) / 3;
+    assert!(light.status == 200 && (4096..=16_384).contains(&triangles), "{} triangles", triangles);
     for (query, status) in [
+        ("scene=fig1-lambert&object=1&motion=true", 404),
         ("scene=../assets/scenes/fig1-lambert&object=0", 404),
         ("scene=fig1-lambert&object=2", 404),
         ("scene=fig1-lambert", 400),

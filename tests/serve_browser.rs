@@ -405,6 +405,26 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
         measured.push((id.to_string(), cli, edges));
     }
 
+    // The bunny's motion frame (half size, its lighter mesh) against the server's motion frame (`render` at
+    // half size, one sample): the same picture but for the merged vertices' facets and silhouette.
+    let shown = browser_frame(&browser, "fig5-golden-bunny", &json!({}));
+    let motion = browser.run(
+        "drawInBrowser(true); const gl = page.browser.gl; const pixels = page.browser.pixels();
+         let text = '';
+         for (let i = 0; i < pixels.length; i += 8192) text += String.fromCharCode(...pixels.subarray(i, i + 8192));
+         return {width: gl.canvas.width, height: gl.canvas.height, pixels: btoa(text)};",
+        &[],
+    );
+    let (width, height) = (motion["width"].as_u64().unwrap() as u32, motion["height"].as_u64().unwrap() as u32);
+    assert_eq!((width, height), (shown.width().div_ceil(2), shown.height().div_ceil(2)));
+    let rows = image::RgbaImage::from_raw(width, height, base64(motion["pixels"].as_str().unwrap())).unwrap();
+    let motion = image::DynamicImage::ImageRgba8(rows).to_rgb8();
+    let bunny = common::root().join("assets/scenes/fig5-golden-bunny.toml");
+    let server_motion = cli_frame(folder.path(), "fig5-motion", &bunny, width, height, &["--samples", "1"]);
+    let agreement = compare(&motion, &server_motion, &vec![false; (width * height) as usize]);
+    eprintln!("fig5-golden-bunny, the browser's motion frame against the server's, {width} x {height}: {agreement}");
+    assert!(agreement.mean_abs <= 1.0 && agreement.fraction_over_3 <= 0.05, "the bunny's motion frame: {agreement}");
+
     // Shaders broken on purpose, each caught on the scene that shows it: the renderer's (translated at build
     // time), and an analytic model's (translated by the server).
     let values = ("analytic_values[k / 4u][k % 4u]", "analytic_values[k / 4u].x");

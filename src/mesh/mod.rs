@@ -1,6 +1,7 @@
 //! Triangle meshes: the tessellated sphere, the infinite plane and OBJ files (through tobj), their tangents
-//! from texture coordinates (`tangents.rs`).
+//! from texture coordinates (`tangents.rs`), and the lighter meshes of the browser's motion frames (`motion.rs`).
 
+pub mod motion;
 mod tangents;
 
 use std::collections::HashMap;

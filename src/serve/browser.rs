@@ -19,6 +19,8 @@ use serde_json::{json, Value as Json};
 use vk_render::brdf::Brdf;
 use vk_render::environment::prefilter::{prefiltered_layers, LAYERS, LAYER_WIDTH};
 use vk_render::environment::EnvironmentMap;
+use vk_render::mesh::motion::{has_motion_mesh, motion_mesh};
+use vk_render::mesh::Mesh;
 use vk_render::render::gpu_types::{GpuFrame, GpuMaterial, GpuObject};
 use vk_render::render::{cube_face_views, NEAR_PLANE};
 use vk_render::scene::{Encoding, EnvironmentMode, Tonemap};
@@ -110,6 +112,9 @@ pub struct BrowserObject {
     pub closed: bool,
     /// Its mesh's bounding box in its own space: the least and the greatest corner.
     pub bounds: [[f32; 3]; 2],
+    /// Whether a lighter mesh of it draws the motion frames (`GET /api/mesh?...&motion=true`:
+    /// vk_render::mesh::motion).
+    pub motion_mesh: bool,
 }
 
 /// The most analytic values a scene's materials may have together in the browser: its uniform block's
@@ -176,6 +181,7 @@ pub fn describe(entry: &Entry) -> BrowserScene {
             let (min, max) = placed.mesh.bounds();
             BrowserObject {
                 closed: placed.mesh.is_closed_outward() && placed.model.determinant() > 0.0,
+                motion_mesh: has_motion_mesh(&placed.mesh),
                 bounds: [min.to_array(), max.to_array()],
                 sphere: placed.exact_sphere,
                 casts_shadow: placed.casts_shadow,
@@ -268,12 +274,16 @@ fn no_scene(id: &str) -> ApiError {
 pub struct MeshQuery {
     scene: String,
     object: usize,
+    /// The lighter mesh of the motion frames, where the object has one (its `motion_mesh`).
+    #[serde(default)]
+    motion: bool,
 }
 
 /// `GET /api/mesh?scene=ID&object=N`: the vertices and triangles the renderer draws for that object (a
 /// sphere's bounding mesh, the plane's fan to infinity, an OBJ's mesh), little-endian: the vertex count and
 /// the index count (u32 each), then each vertex's position (4 floats, homogeneous), normal (3) and tangent
-/// (3), then the indices (u32).
+/// (3), then the indices (u32). With `motion=true`, the lighter mesh of its motion frames (404 where it has
+/// none).
 pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -> Result<Response, ApiError> {
     let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
     let object = query.object;
@@ -284,28 +294,40 @@ pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -
         ));
     }
     let scene = entry.scene.clone();
-    let key = format!("mesh {} {object}", entry.id);
+    let (id, motion) = (entry.id.clone(), query.motion);
+    let key = format!("mesh {} {object} {motion}", entry.id);
     let bytes = app
         .browser_files
         .get(key, move || {
             // An OBJ is read from disk (once per process).
             let placed = vk_render::mesh::place_objects(&scene).map_err(|e| ApiError::from_library(&e))?;
             let mesh = &placed[object].mesh;
-            let mut bytes = Vec::with_capacity(8 + mesh.vertices.len() * 40 + mesh.indices.len() * 4);
-            bytes.extend((mesh.vertices.len() as u32).to_le_bytes());
-            bytes.extend((mesh.indices.len() as u32).to_le_bytes());
-            for vertex in &mesh.vertices {
-                for value in vertex.position.iter().chain(&vertex.normal).chain(&vertex.tangent) {
-                    bytes.extend(value.to_le_bytes());
-                }
+            if !motion {
+                return Ok(mesh_bytes(mesh));
             }
-            for index in &mesh.indices {
-                bytes.extend(index.to_le_bytes());
-            }
-            Ok(bytes)
+            let light = motion_mesh(mesh).ok_or_else(|| {
+                ApiError::new(StatusCode::NOT_FOUND, format!("scene {id}: object {object}: no lighter mesh for motion"))
+            })?;
+            Ok(mesh_bytes(&light))
         })
         .await?;
     Ok(binary(bytes))
+}
+
+/// A mesh as `GET /api/mesh` hands it out.
+fn mesh_bytes(mesh: &Mesh) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(8 + mesh.vertices.len() * 40 + mesh.indices.len() * 4);
+    bytes.extend((mesh.vertices.len() as u32).to_le_bytes());
+    bytes.extend((mesh.indices.len() as u32).to_le_bytes());
+    for vertex in &mesh.vertices {
+        for value in vertex.position.iter().chain(&vertex.normal).chain(&vertex.tangent) {
+            bytes.extend(value.to_le_bytes());
+        }
+    }
+    for index in &mesh.indices {
+        bytes.extend(index.to_le_bytes());
+    }
+    bytes
 }
 
 #[derive(Deserialize)]

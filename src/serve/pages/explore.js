@@ -84,8 +84,9 @@ function stillFromServer() {
 // src/serve/explore.rs).
 const SETTLE_MS = 150;
 // A motion frame's size, a fraction of the picture's: the server's motion frames' (src/frames.rs,
-// MOTION_SCALE), scaled up to the picture by the page. A CPU's WebGL (SwiftShader) shades a pixel of the
-// bunny's one-pixel triangles several times over (2 x 2 quads): half the size, a third of the time.
+// MOTION_SCALE), scaled up to the picture by the page, and drawn with the objects' lighter meshes
+// (src/mesh/motion.rs). A CPU's WebGL (SwiftShader) shades a pixel of the bunny's one-pixel triangles several
+// times over (2 x 2 quads) and sets up each of its triangles: half the size, a third of the shading.
 const MOTION_SCALE = 2;
 // How often the status line is written while a control moves (the page's layout costs a frame's tenth).
 const MOTION_STATUS_MS = 250;
@@ -107,7 +108,7 @@ function drawInBrowser(motion) {
       (error) => useServer(`its albedo tables did not come (${error.message})`));
   }
   try {
-    page.browser.render(page.scene, page.set, Math.ceil(width / scale), Math.ceil(height / scale));
+    page.browser.render(page.scene, page.set, Math.ceil(width / scale), Math.ceil(height / scale), motion);
   } catch (error) {
     useServer(`your browser could not draw it (${error.message})`);
     return;

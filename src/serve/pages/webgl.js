@@ -123,7 +123,8 @@ const analyticSuffix = (scene, name) => (scene.browser.materials[name].analytic_
 const TEXTURE_UNITS = { shadow_maps: 0, measured_tables: 1, environment_map: 2, environment_prefiltered: 3, colour: 0 };
 
 // Where the server hands out the mesh of `scene`'s object `index` (the key its vertex array is kept by).
-const meshUrl = (scene, index) => `/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${index}`;
+// (`motion`: its lighter mesh, for the motion frames).
+const meshUrl = (scene, index, motion) => `/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${index}${motion ? "&motion=true" : ""}`;
 
 class BrowserRenderer {
   // A renderer on `canvas`, or null with the reason when the browser cannot (no WebGL2, no float targets).
@@ -204,11 +205,13 @@ class BrowserRenderer {
     return entry;
   }
 
-  // The scene's meshes (GET /api/mesh), each as a vertex array: position (4 floats), normal (3), tangent (3).
+  // The scene's meshes (GET /api/mesh), each as a vertex array: position (4 floats), normal (3), tangent (3);
+  // and the lighter ones of the motion frames, where an object has one.
   async load(scene) {
     const gl = this.gl;
-    for (const object of scene.objects) {
-      const url = meshUrl(scene, object.index);
+    const urls = scene.objects.flatMap((object, k) =>
+      [meshUrl(scene, object.index, false)].concat(scene.browser.objects[k].motion_mesh ? [meshUrl(scene, object.index, true)] : []));
+    for (const url of urls) {
       if (this.meshes.has(url)) continue;
       const response = await fetch(url);
       if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
@@ -439,8 +442,9 @@ class BrowserRenderer {
     return renderbuffer;
   }
 
-  // Every shadow-casting light's cube, each face a layer (6 cube + face) of one R32F array texture.
-  drawShadows(scene, state) {
+  // Every shadow-casting light's cube, each face a layer (6 cube + face) of one R32F array texture (drawn
+  // with the lighter meshes for a motion frame).
+  drawShadows(scene, state, motion) {
     const gl = this.gl;
     const size = scene.browser.shadow_map_size;
     const casting = scene.browser.shadows.map((s, k) => (s ? k : -1)).filter((k) => k >= 0);
@@ -472,7 +476,7 @@ class BrowserRenderer {
           gl.uniform1ui(entry.object, 0);
           gl.uniform1ui(entry.light, k);
           gl.uniform1ui(entry.face, face);
-          this.drawMesh(scene, index);
+          this.drawMesh(scene, index, motion);
         });
       }
     });
@@ -492,17 +496,19 @@ class BrowserRenderer {
     return !local.every((v, k) => v >= least[k] && v <= greatest[k]);
   }
 
-  drawMesh(scene, index) {
+  // Draws object `index`: its mesh, or for a motion frame its lighter one where it has one.
+  drawMesh(scene, index, motion) {
     const gl = this.gl;
-    const mesh = this.meshes.get(meshUrl(scene, index));
+    const mesh = this.meshes.get(meshUrl(scene, index, motion && scene.browser.objects[index].motion_mesh));
     this.bindObject(index);
     gl.bindVertexArray(mesh.vertexArray);
     gl.drawElements(gl.TRIANGLES, mesh.count, gl.UNSIGNED_INT, 0);
     gl.bindVertexArray(null);
   }
 
-  // Draws `scene` with the page's overrides `set` at width x height onto the canvas.
-  render(scene, set, width, height) {
+  // Draws `scene` with the page's overrides `set` at width x height onto the canvas; a motion frame
+  // (`motion`) with the objects' lighter meshes.
+  render(scene, set, width, height, motion) {
     const gl = this.gl;
     const canvas = gl.canvas;
     if (canvas.width !== width || canvas.height !== height) [canvas.width, canvas.height] = [width, height];
@@ -518,10 +524,12 @@ class BrowserRenderer {
     gl.cullFace(gl.BACK);
     this.writeLights(state, browser.shadows);
     this.writeObjects(scene, state, this.writeAnalytic(state));
+    // The shadow cubes, drawn again when a light moves, or for a still frame where a motion frame drew them.
     const shadowKey = JSON.stringify([scene.id, state.lights.map((l) => l.position)]);
-    if (shadowKey !== this.shadowKey) {
-      this.drawShadows(scene, state);
+    if (shadowKey !== this.shadowKey || (!motion && this.shadowsOfMotion)) {
+      this.drawShadows(scene, state, Boolean(motion));
       this.shadowKey = shadowKey;
+      this.shadowsOfMotion = Boolean(motion);
     }
     // The frame (GpuFrame::new).
     const frame = new ArrayBuffer(BLOCKS.Frame[1]);
@@ -588,7 +596,7 @@ class BrowserRenderer {
       gl.uniform1ui(entry.object, 0);
       if (this.hidesBackFaces(object, state.camera.position)) gl.enable(gl.CULL_FACE);
       else gl.disable(gl.CULL_FACE);
-      this.drawMesh(scene, index);
+      this.drawMesh(scene, index, motion);
     });
     gl.disable(gl.CULL_FACE);
     // A term's scale (TermScale::of): the normal's [-1, 1]; any other term's [0, the larger of 1 and the
