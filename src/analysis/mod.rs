@@ -4,6 +4,7 @@
 //! what it computes.
 
 pub use crate::render::albedo;
+pub mod chi2;
 pub mod fit;
 pub mod furnace;
 pub mod image_fit;
