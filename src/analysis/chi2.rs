@@ -233,19 +233,8 @@ pub fn ln_gamma(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A small deterministic generator of uniform numbers in [0, 1) (SplitMix64), for samplers in tests.
-    struct Uniform(u64);
-
-    impl Uniform {
-        fn next(&mut self) -> f64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    // The reference tracer's generator: uniform numbers in [0, 1), deterministic.
+    use crate::reference::SplitMix64 as Uniform;
 
     /// Cosine-weighted directions about +z with exponent `power` (cos^power θ / normalization).
     fn power_cosine_sample(power: f64, u: f64, v: f64) -> DVec3 {

@@ -7,6 +7,10 @@
 mod environment;
 mod merl;
 
+// Its generator of uniform numbers, for the statistics' tests (analysis::chi2).
+#[cfg(test)]
+pub(crate) use environment::SplitMix64;
+
 use std::sync::Arc;
 
 use glam::{Mat3, Vec3};
