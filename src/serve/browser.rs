@@ -270,6 +270,14 @@ fn no_scene(id: &str) -> ApiError {
     ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: no such scene", vk_render::files::shortened(id)))
 }
 
+/// The 404 of a request for a `kind` material (measured, analytic) that `entry`'s scene has not by that name.
+fn no_material(entry: &Entry, name: &str, kind: &str) -> ApiError {
+    ApiError::new(
+        StatusCode::NOT_FOUND,
+        format!("scene {}: material {}: no {kind} material of that name", entry.id, vk_render::files::shortened(name)),
+    )
+}
+
 #[derive(Deserialize)]
 pub struct MeshQuery {
     scene: String,
@@ -342,14 +350,7 @@ pub struct TableQuery {
 pub async fn measured(State(app): State<Arc<App>>, Query(query): Query<TableQuery>) -> Result<Response, ApiError> {
     let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
     let Some(Brdf::Measured(table)) = entry.scene.materials.get(&query.material).cloned() else {
-        return Err(ApiError::new(
-            StatusCode::NOT_FOUND,
-            format!(
-                "scene {}: material {}: no measured material of that name",
-                entry.id,
-                vk_render::files::shortened(&query.material)
-            ),
-        ));
+        return Err(no_material(entry, &query.material, "measured"));
     };
     let key = format!("measured {} {}", entry.id, query.material);
     let bytes = app
@@ -365,14 +366,7 @@ pub async fn measured(State(app): State<Arc<App>>, Query(query): Query<TableQuer
 pub async fn analytic(State(app): State<Arc<App>>, Query(query): Query<TableQuery>) -> Result<Response, ApiError> {
     let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
     let Some(Brdf::Analytic(material)) = entry.scene.materials.get(&query.material) else {
-        return Err(ApiError::new(
-            StatusCode::NOT_FOUND,
-            format!(
-                "scene {}: material {}: no analytic material of that name",
-                entry.id,
-                vk_render::files::shortened(&query.material)
-            ),
-        ));
+        return Err(no_material(entry, &query.material, "analytic"));
     };
     let model = material.model().clone();
     let key = format!("analytic {:016x}", model.key());

@@ -18,7 +18,7 @@ const page = {
   serverReason: "", // why the server renders this scene's frames
   firstFrame: undefined,  // when the browser drew its first frame, in ms since the page opened (make bench-serve)
   socketSent: 0,   // messages sent on the socket, which numbers its frames so
-  socketStates: [], // the page's state (page.sent) of each message sent on the socket
+  socketStates: new Map(), // the page's state (page.sent) of each message sent on the socket, until its frames come
   restTimer: null, // draws the browser's still frame once the controls rest
   statusShown: 0,  // when the status line was last written
 };
@@ -69,7 +69,7 @@ function sendState(still) {
 // Sends the page's state on the socket (the server's frames, or its still frame: `still`), noting which.
 function sendOnSocket(still) {
   page.socketSent += 1;
-  page.socketStates[page.socketSent] = page.sent;
+  page.socketStates.set(page.socketSent, page.sent);
   page.socket.send(JSON.stringify({ ...request(), ...(still ? { still: true } : {}) }));
 }
 
@@ -123,7 +123,7 @@ function drawInBrowser(motion) {
   if (!missing && !motion) canvas.dataset.state = String(state);
   const rate = framesThisSecond();
   const now = performance.now();
-  if (motion && now - (page.statusShown || 0) < MOTION_STATUS_MS) return;
+  if (motion && now - page.statusShown < MOTION_STATUS_MS) return;
   page.statusShown = now;
   const size = motion ? `${Math.ceil(width / scale)} x ${Math.ceil(height / scale)} scaled up` : `${width} x ${height}`;
   if (stillFromServer()) {
@@ -190,7 +190,7 @@ function connect() {
   const socket = new WebSocket(`${scheme}//${location.host}/api/explore`);
   socket.binaryType = "blob";
   page.socketSent = 0;
-  page.socketStates = [];
+  page.socketStates = new Map();
   socket.onopen = () => {
     if (page.mode === "server") {
       $("status").textContent = "connected";
@@ -213,8 +213,10 @@ function connect() {
     const header = page.pending;
     page.pending = null;
     if (!header) return;
-    // The page's state the frame is of.
-    header.state = page.socketStates[header.state];
+    // The page's state the frame is of; the messages before it will have no frame (a message's motion and
+    // still frames come in its order).
+    for (const number of page.socketStates.keys()) if (number < header.state) page.socketStates.delete(number);
+    header.state = page.socketStates.get(header.state);
     if (page.mode === "browser" && !(header.kind === "still" && header.state === page.sent && stillFromServer())) return;
     const bitmap = await createImageBitmap(event.data);
     if (page.mode === "browser" && header.state !== page.sent) return;  // the controls moved meanwhile

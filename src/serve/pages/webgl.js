@@ -424,10 +424,11 @@ class BrowserRenderer {
     gl.bufferData(gl.UNIFORM_BUFFER, data, gl.DYNAMIC_DRAW);
   }
 
-  bindObject(k) {
+  // Binds object `k`'s ranges of the objects' buffer and, under an environment, of the albedo tables'.
+  bindObject(scene, k) {
     const gl = this.gl;
     gl.bindBufferRange(gl.UNIFORM_BUFFER, BLOCKS.Objects[0], this.objects, this.objectStride * k, BLOCKS.Objects[1]);
-    if (this.albedoBound) gl.bindBufferRange(gl.UNIFORM_BUFFER, BLOCKS.EnvironmentAlbedo[0], this.albedoBuffer, this.albedoStride * k, BLOCKS.EnvironmentAlbedo[1]);
+    if (scene.browser.environment) gl.bindBufferRange(gl.UNIFORM_BUFFER, BLOCKS.EnvironmentAlbedo[0], this.albedoBuffer, this.albedoStride * k, BLOCKS.EnvironmentAlbedo[1]);
   }
 
   // The float depth buffer of a target of width x height (one kept, made anew when the size changes).
@@ -500,7 +501,7 @@ class BrowserRenderer {
   drawMesh(scene, index, motion) {
     const gl = this.gl;
     const mesh = this.meshes.get(meshUrl(scene, index, motion && scene.browser.objects[index].motion_mesh));
-    this.bindObject(index);
+    this.bindObject(scene, index);
     gl.bindVertexArray(mesh.vertexArray);
     gl.drawElements(gl.TRIANGLES, mesh.count, gl.UNSIGNED_INT, 0);
     gl.bindVertexArray(null);
@@ -524,12 +525,13 @@ class BrowserRenderer {
     gl.cullFace(gl.BACK);
     this.writeLights(state, browser.shadows);
     this.writeObjects(scene, state, this.writeAnalytic(state));
+    if (browser.environment) this.writeAlbedo(scene);
     // The shadow cubes, drawn again when a light moves, or for a still frame where a motion frame drew them.
     const shadowKey = JSON.stringify([scene.id, state.lights.map((l) => l.position)]);
     if (shadowKey !== this.shadowKey || (!motion && this.shadowsOfMotion)) {
-      this.drawShadows(scene, state, Boolean(motion));
-      this.shadowKey = shadowKey;
       this.shadowsOfMotion = Boolean(motion);
+      this.drawShadows(scene, state, this.shadowsOfMotion);
+      this.shadowKey = shadowKey;
     }
     // The frame (GpuFrame::new).
     const frame = new ArrayBuffer(BLOCKS.Frame[1]);
@@ -542,8 +544,6 @@ class BrowserRenderer {
     f[40] = 2 / browser.shadow_map_size;
     f.set(browser.environment ? browser.environment.frame : [1, 0, 0, 0], 44);
     this.write("Frame", new Uint8Array(frame));
-    if (browser.environment) this.writeAlbedo(scene);
-    this.albedoBound = Boolean(browser.environment);
     // The forward pass into a float target, one sample a pixel.
     if (!this.colour || this.colour.width !== width || this.colour.height !== height) {
       if (this.colour) gl.deleteTexture(this.colour.texture);
