@@ -50,7 +50,7 @@ impl SphereGrid {
     }
 
     /// The probability `pdf` (a density per solid angle) gives each cell: its integral over the cell, by
-    /// Gauss-Legendre's rule of [`NODES`] points in cos θ and in φ (the solid angle is dcos θ dφ, so the rule
+    /// Gauss-Legendre's rule of six points in cos θ and in φ (the solid angle is dcos θ dφ, so the rule
     /// needs no Jacobian). A density with a kink inside a cell is integrated less exactly there; the grid is
     /// fine enough that the error stays far below a count's noise.
     pub fn probabilities(&self, pdf: impl Fn(DVec3) -> f64) -> Vec<f64> {
