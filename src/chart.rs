@@ -335,7 +335,7 @@ fn round_label(value: f64) -> f64 {
 }
 
 /// An axis label: no trailing zeros (30, not 30.0; 0.25, not 0.250).
-fn short_number(value: f64) -> String {
+pub fn short_number(value: f64) -> String {
     format!("{}", round_label(value))
 }
 

@@ -70,6 +70,10 @@ enum Command {
     /// Write a material as a MERL file, as if measured (each entry its BRDF at the entry's centre), to load
     /// with brdf = "measured" or into another tool that reads MERL files.
     Tabulate(commands::tabulate::TabulateArgs),
+    /// Test a material's own sampler, the exact mode's, on the GPU: Pearson's χ² per view, the density's
+    /// integral, the estimator against the albedo, reciprocity and energy (exit status 0 passes, 1 fails, 2
+    /// bad input).
+    Sampling(commands::sampling::SamplingArgs),
     /// Render two scenes and compare them: side by side with the map of their differences and its colour
     /// bar (PNG), mean / p99 / max differences printed.
     Compare(commands::compare::CompareArgs),
@@ -214,6 +218,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Fit(args) => commands::fit::run(args, options),
         Command::Tabulate(args) => commands::tabulate::run(args, options),
         Command::Check(args) => return Ok(commands::check::run(args, options)),
+        Command::Sampling(args) => return Ok(commands::sampling::run(args, options)),
         #[cfg(feature = "preview")]
         Command::Preview(args) => commands::preview::run(args, options),
         #[cfg(feature = "serve")]

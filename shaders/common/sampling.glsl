@@ -30,16 +30,26 @@ vec2 sequence_point(uvec2 pixel, uint stream, uint index) {
     return vec2(fixed_point >> 8u) * (1.0 / 16777216.0);
 }
 
-// A unit vector at cos_theta from `axis` and azimuth phi about it (Duff et al. 2017, "Building an
-// orthonormal basis, revisited").
-vec3 around(vec3 axis, float cos_theta, float phi) {
+// A unit vector at (cos_theta, sin_theta) from `axis` and azimuth phi about it (Duff et al. 2017, "Building
+// an orthonormal basis, revisited").
+vec3 around_at(vec3 axis, float cos_theta, float sin_theta, float phi) {
     float sign_z = axis.z >= 0.0 ? 1.0 : -1.0;
     float a = -1.0 / (sign_z + axis.z);
     float b = axis.x * axis.y * a;
     vec3 tangent = vec3(1.0 + sign_z * axis.x * axis.x * a, sign_z * b, -sign_z * axis.x);
     vec3 bitangent = vec3(b, sign_z + axis.y * axis.y * a, -axis.y);
-    float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     return (tangent * cos(phi) + bitangent * sin(phi)) * sin_theta + axis * cos_theta;
+}
+
+// The same at cos_theta, sin_theta from it (exact enough away from the axis).
+vec3 around(vec3 axis, float cos_theta, float phi) {
+    return around_at(axis, cos_theta, sqrt(max(1.0 - cos_theta * cos_theta, 0.0)), phi);
+}
+
+// 1 - exp(x) for x <= 0, without the cancellation of 1 - exp(x) near 0 (GLSL has no expm1): its series
+// where |x| is small.
+float one_minus_exp(float x) {
+    return abs(x) < 1e-3 ? -x * (1.0 + x * (0.5 + x * (1.0 / 6.0))) : 1.0 - exp(x);
 }
 
 // Malley's method: the cosine-weighted hemisphere about n, density cos(theta) / pi.
@@ -47,9 +57,26 @@ vec3 cosine_sample(vec3 n, vec2 u) { return around(n, sqrt(1.0 - u.x), 2.0 * PI 
 float cosine_pdf(vec3 n, vec3 wi) { return max(dot(n, wi), 0.0) * INV_PI; }
 
 // A cosine-power lobe about `axis` (Lafortune and Willems 1994, "Using the modified Phong reflectance model
-// for physically based rendering"): density (s + 1) / (2 pi) cos^s.
-vec3 cosine_power_sample(vec3 axis, float s, vec2 u) { return around(axis, pow(u.x, 1.0 / (s + 1.0)), 2.0 * PI * u.y); }
-float cosine_power_pdf(vec3 axis, float s, vec3 w) { return (s + 1.0) * (0.5 * INV_PI) * pow_lobe(max(dot(axis, w), 0.0), s); }
+// for physically based rendering"): density (s + 1) / (2 pi) cos^s. cos theta = u^(1 / (s + 1)); sin theta
+// from sin^2 = 1 - u^(2 / (s + 1)) without cancellation, for a sharp lobe's cos theta rounds to a few floats
+// below 1 (at s = 10^5 a float sin theta from it drew a lobe that Pearson's chi-square told apart).
+vec3 cosine_power_sample(vec3 axis, float s, vec2 u) {
+    float log_u = log(u.x) / (s + 1.0);
+    return around_at(axis, exp(log_u), sqrt(one_minus_exp(2.0 * log_u)), 2.0 * PI * u.y);
+}
+// Its density at w. cos^s as exp(s ln cos), ln cos = ln(1 - sin^2) / 2 by its series near the axis, sin^2 =
+// |axis x w|^2: a sharp lobe lies where the float cos rounds to a few values below 1, and pow(cos, s) of them
+// was a staircase whose integral missed 1 by 4% at s = 10^7.
+float cosine_power_pdf(vec3 axis, float s, vec3 w) {
+    float cos_theta = dot(axis, w);
+    if (cos_theta <= 0.0) {
+        return 0.0;
+    }
+    vec3 across = cross(axis, w);
+    float x = dot(across, across);
+    float log_cos = x < 1e-3 ? -0.5 * x * (1.0 + x * (0.5 + x * (1.0 / 3.0 + x * 0.25))) : log(cos_theta);
+    return (s + 1.0) * (0.5 * INV_PI) * exp(s * log_cos);
+}
 
 // GGX's visible normals (Heitz 2018, "Sampling the GGX distribution of visible normals"): half vectors
 // in proportion to G1(wo) max(0, wo . h) D(h) / (n . wo), so that a sample's weight f cos / pdf is nearly
@@ -121,6 +148,44 @@ float lobe_pdf(Material m, vec3 n, vec3 wi, vec3 wo) {
     float alpha = m.roughness * m.roughness;
     float NoV = max(dot(n, wo), 1e-6);
     return dot(n, h) > 0.0 ? ggx_g1(NoV, alpha) * d_ggx(n, h, alpha) / (4.0 * NoV) : 0.0;
+}
+
+// The luminance of a reflectance (Rec. 709), which the material's sampler shares its draws by.
+float reflectance_luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// How often the material's own sampler draws from its lobe rather than the cosine: in proportion to the
+// lobe's reflectance beside the diffuse one's (ks against kd for the course's plastics, the metal's share of
+// f0 against the rest's kd for Cook-Torrance), as renderers share a layered material's samples.
+float lobe_share(Material m) {
+    if (!has_lobe(m)) {
+        return 0.0;
+    }
+    float lobe = brdf_id(m) == BRDF_COOK_TORRANCE ? m.metalness * reflectance_luminance(m.f0.rgb)
+                                                 : reflectance_luminance(m.ks.rgb);
+    float diffuse = brdf_id(m) == BRDF_COOK_TORRANCE ? (1.0 - m.metalness) * reflectance_luminance(m.kd.rgb)
+                                                    : reflectance_luminance(m.kd.rgb);
+    return lobe + diffuse > 0.0 ? lobe / (lobe + diffuse) : 1.0;
+}
+
+// The material's own sampler, which `vk-render sampling` tests: one draw from the lobe (lobe_sample, as the
+// exact mode draws it) with probability lobe_share, else from the cosine, u.x reused for the choice. A
+// direction below the surface is no sample. The frame's tangent t is for the models that read one.
+vec3 material_sample(Material m, vec3 n, vec3 t, vec3 wo, vec2 u) {
+    float share = lobe_share(m);
+    if (u.x < share) {
+        return lobe_sample(m, n, wo, vec2(u.x / share, u.y));
+    }
+    return cosine_sample(n, vec2((u.x - share) / (1.0 - share), u.y));
+}
+
+// The density per solid angle of material_sample drawing wi: zero below the surface, where it draws nothing.
+float material_pdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
+    if (dot(n, wi) <= 0.0) {
+        return 0.0;
+    }
+    float share = lobe_share(m);
+    float pdf = (1.0 - share) * cosine_pdf(n, wi);
+    return share > 0.0 ? pdf + share * lobe_pdf(m, n, wi, wo) : pdf;
 }
 
 #endif

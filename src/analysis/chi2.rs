@@ -13,6 +13,8 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
+use super::sampling::cubature::coordinates;
+
 /// Cells expecting fewer samples than this are pooled (Cochran's rule, as Mitsuba and pbrt pool).
 pub const MIN_EXPECTED: f64 = 5.0;
 
@@ -34,8 +36,13 @@ impl SphereGrid {
 
     /// The cell of unit direction `d`: row (cos θ) times `phi_bins` plus column (φ).
     pub fn cell(&self, d: DVec3) -> usize {
-        let row = (((d.z.clamp(-1.0, 1.0) + 1.0) * 0.5 * self.cos_bins as f64) as usize).min(self.cos_bins - 1);
-        let phi = d.y.atan2(d.x);
+        let (cos_theta, phi) = coordinates(d);
+        self.cell_at(cos_theta, phi)
+    }
+
+    /// The cell of the direction at (cos θ, φ), φ from -π to π.
+    pub fn cell_at(&self, cos_theta: f64, phi: f64) -> usize {
+        let row = (((cos_theta.clamp(-1.0, 1.0) + 1.0) * 0.5 * self.cos_bins as f64) as usize).min(self.cos_bins - 1);
         let column = (((phi + PI) / (2.0 * PI) * self.phi_bins as f64) as usize).min(self.phi_bins - 1);
         row * self.phi_bins + column
     }
@@ -48,50 +55,7 @@ impl SphereGrid {
         let (cos, phi) = (-1.0 + row as f64 * cos_step, -PI + column as f64 * phi_step);
         (cos, cos + cos_step, phi, phi + phi_step)
     }
-
-    /// The probability `pdf` (a density per solid angle) gives each cell: its integral over the cell, by
-    /// Gauss-Legendre's rule of six points in cos θ and in φ (the solid angle is dcos θ dφ, so the rule
-    /// needs no Jacobian). A density with a kink inside a cell is integrated less exactly there; the grid is
-    /// fine enough that the error stays far below a count's noise.
-    pub fn probabilities(&self, pdf: impl Fn(DVec3) -> f64) -> Vec<f64> {
-        (0..self.cells())
-            .map(|cell| {
-                let (c0, c1, p0, p1) = self.bounds(cell);
-                let (cos_mid, cos_half) = (0.5 * (c0 + c1), 0.5 * (c1 - c0));
-                let (phi_mid, phi_half) = (0.5 * (p0 + p1), 0.5 * (p1 - p0));
-                let mut sum = 0.0;
-                for (x, wx) in NODES.iter().zip(WEIGHTS) {
-                    let cos_theta = cos_mid + cos_half * x;
-                    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-                    for (y, wy) in NODES.iter().zip(WEIGHTS) {
-                        let phi = phi_mid + phi_half * y;
-                        let d = DVec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta);
-                        sum += wx * wy * pdf(d);
-                    }
-                }
-                sum * cos_half * phi_half
-            })
-            .collect()
-    }
 }
-
-/// Gauss-Legendre's 6 nodes on [-1, 1], and their weights.
-const NODES: [f64; 6] = [
-    -0.932_469_514_203_152,
-    -0.661_209_386_466_264_5,
-    -0.238_619_186_083_197,
-    0.238_619_186_083_197,
-    0.661_209_386_466_264_5,
-    0.932_469_514_203_152,
-];
-const WEIGHTS: [f64; 6] = [
-    0.171_324_492_379_170_3,
-    0.360_761_573_048_138_6,
-    0.467_913_934_572_691,
-    0.467_913_934_572_691,
-    0.360_761_573_048_138_6,
-    0.171_324_492_379_170_3,
-];
 
 /// A χ² test's outcome.
 #[derive(Clone, Debug, PartialEq)]
@@ -233,6 +197,7 @@ pub fn ln_gamma(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::sampling::cubature::integrate_cells;
     // The reference tracer's generator: uniform numbers in [0, 1), deterministic.
     use crate::reference::SplitMix64 as Uniform;
 
@@ -254,6 +219,12 @@ mod tests {
 
     const GRID: SphereGrid = SphereGrid { cos_bins: 20, phi_bins: 40 };
 
+    /// Each cell's probability under `pdf`, by the command's adaptive cubature.
+    fn probabilities(pdf: impl Fn(DVec3) -> f64) -> Vec<f64> {
+        let density = |ds: &[DVec3]| Ok(ds.iter().map(|&d| [pdf(d), 0.0, 0.0, 0.0]).collect());
+        integrate_cells(&GRID, &[], 1_000_000, density).unwrap().probability
+    }
+
     fn counts(samples: u64, seed: u64, sample: impl Fn(f64, f64) -> Option<DVec3>) -> Vec<u64> {
         let mut uniform = Uniform(seed);
         let mut observed = vec![0u64; GRID.cells()];
@@ -270,7 +241,7 @@ mod tests {
     fn the_incomplete_gamma_function_has_its_known_values() {
         // Q(1, x) = exp(-x); Q(1/2, x) = erfc(sqrt(x)); the χ² table's 1% points.
         for x in [0.1, 1.0, 3.0, 20.0] {
-            assert!((gamma_q(1.0, x) - (-x as f64).exp()).abs() < 1e-13, "{x}");
+            assert!((gamma_q(1.0, x) - (-x).exp()).abs() < 1e-13, "{x}");
         }
         assert!((gamma_q(0.5, 1.0) - 0.157_299_207_050_285_13).abs() < 1e-12);
         for (dof, point) in
@@ -283,14 +254,7 @@ mod tests {
     }
 
     #[test]
-    fn the_cells_have_equal_solid_angles_and_a_density_integrates_to_one() {
-        let uniform = GRID.probabilities(|_| 1.0 / (4.0 * PI));
-        assert!(uniform.iter().all(|p| (p - 1.0 / GRID.cells() as f64).abs() < 1e-14));
-        for power in [1.0, 10.0, 100.0] {
-            let total: f64 = GRID.probabilities(|d| power_cosine_pdf(power, d)).iter().sum();
-            assert!((total - 1.0).abs() < 1e-3, "cos^{power}: {total}");
-        }
-        // A direction falls in the cell whose bounds hold it.
+    fn a_direction_falls_in_the_cell_whose_bounds_hold_it() {
         let d = DVec3::new(0.3, -0.5, 0.2).normalize();
         let (c0, c1, p0, p1) = GRID.bounds(GRID.cell(d));
         let phi = d.y.atan2(d.x);
@@ -302,11 +266,11 @@ mod tests {
         // 200 seeds of a sampler drawn exactly from its density: at the 1% level about 2 fail (binomial:
         // at most 7 with probability 0.999), and the p-values are uniform on [0, 1] (their mean 1/2, within
         // 4 standard deviations of a mean of 200: 0.082), which a wrong count of degrees of freedom is not.
-        let probabilities = GRID.probabilities(|d| power_cosine_pdf(4.0, d));
+        let expected = probabilities(|d| power_cosine_pdf(4.0, d));
         let tests: Vec<ChiSquare> = (0..200)
             .map(|seed| {
                 let observed = counts(20_000, seed, |u, v| Some(power_cosine_sample(4.0, u, v)));
-                chi_square(&observed, &probabilities, 20_000)
+                chi_square(&observed, &expected, 20_000)
             })
             .collect();
         let failed = tests.iter().filter(|t| !t.passes(0.01)).count();
@@ -319,9 +283,9 @@ mod tests {
     #[test]
     fn a_slightly_wrong_sampler_is_caught() {
         // Samples of cos^4.2 tested against cos^4's density: a shift of the lobe's width by 2%.
-        let probabilities = GRID.probabilities(|d| power_cosine_pdf(4.0, d));
+        let expected = probabilities(|d| power_cosine_pdf(4.0, d));
         let observed = counts(1_000_000, 7, |u, v| Some(power_cosine_sample(4.2, u, v)));
-        let test = chi_square(&observed, &probabilities, 1_000_000);
+        let test = chi_square(&observed, &expected, 1_000_000);
         assert!(!test.passes(0.01), "{test:?}");
         assert_eq!(test.impossible, 0);
     }
@@ -329,24 +293,24 @@ mod tests {
     #[test]
     fn samples_where_the_density_is_nothing_fail_on_their_own() {
         // A sampler that sends one sample in ten below the horizon, against a density with none there.
-        let probabilities = GRID.probabilities(|d| power_cosine_pdf(1.0, d));
+        let expected = probabilities(|d| power_cosine_pdf(1.0, d));
         let observed = counts(100_000, 3, |u, v| {
             let d = power_cosine_sample(1.0, (u * 10.0).fract(), v);
             Some(if u < 0.1 { DVec3::new(d.x, d.y, -d.z) } else { d })
         });
-        let test = chi_square(&observed, &probabilities, 100_000);
+        let test = chi_square(&observed, &expected, 100_000);
         assert!(test.impossible > 9_000 && !test.passes(0.01), "{test:?}");
     }
 
     #[test]
     fn samples_not_returned_are_the_densitys_shortfall() {
         // A sampler returning nothing half the time, against a density integrating to a half: it passes.
-        let probabilities = GRID.probabilities(|d| 0.5 * power_cosine_pdf(2.0, d));
+        let expected = probabilities(|d| 0.5 * power_cosine_pdf(2.0, d));
         let observed = counts(200_000, 11, |u, v| (u < 0.5).then(|| power_cosine_sample(2.0, 2.0 * u, v)));
-        let test = chi_square(&observed, &probabilities, 200_000);
+        let test = chi_square(&observed, &expected, 200_000);
         assert!(test.passes(0.01), "{test:?}");
         // The same samples against the whole density: the missing half is caught.
-        let whole = GRID.probabilities(|d| power_cosine_pdf(2.0, d));
+        let whole = probabilities(|d| power_cosine_pdf(2.0, d));
         assert!(!chi_square(&observed, &whole, 200_000).passes(0.01));
     }
 

@@ -11,6 +11,7 @@ pub mod image_fit;
 pub mod lobe;
 pub mod lobe3d;
 pub mod plots;
+pub mod sampling;
 pub mod slice;
 
 use std::path::PathBuf;

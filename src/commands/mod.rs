@@ -12,6 +12,7 @@ pub mod plot;
 pub mod preview;
 pub mod reference;
 pub mod render;
+pub mod sampling;
 mod sheets;
 pub mod sweep;
 pub mod tabulate;

@@ -78,9 +78,9 @@ pub struct CellIntegral {
 /// `AlbedoJob` of `shaders/brdf_albedo.comp` (std430).
 #[repr(C)]
 #[derive(Clone, Copy)]
-struct GpuAlbedoJob {
-    material: GpuMaterial,
-    wo: [f32; 4],
+pub(super) struct GpuAlbedoJob {
+    pub(super) material: GpuMaterial,
+    pub(super) wo: [f32; 4],
 }
 
 /// `AlbedoCell` of `shaders/brdf_albedo.comp` (std430).
@@ -98,7 +98,7 @@ const WORKGROUP_SIZE: u32 = 64;
 /// and an albedo's refinement of a sharp lobe (Ashikhmin-Shirley's of exponent 100) made 2^20 cells of 225
 /// evaluations each, over the 30 s a wait may take on lavapipe. 2^20 evaluations of the Disney BRDF take
 /// about 0.1 s there; the memory a dispatch holds at once stays small.
-const EVALUATIONS_PER_DISPATCH: usize = 1 << 20;
+pub(super) const EVALUATIONS_PER_DISPATCH: usize = 1 << 20;
 
 /// The probe shaders and their pipelines: `brdf_eval` at given cases, and integrated over cells, one pipeline
 /// per BRDF, built when first needed.
@@ -111,20 +111,21 @@ const EVALUATIONS_PER_DISPATCH: usize = 1 << 20;
 pub struct ProbePass {
     eval: Shader,
     albedo: Shader,
-    device: Arc<Device>,
+    pub(super) sampler: Shader,
+    pub(super) device: Arc<Device>,
 }
 
 /// What a probe pipeline fixes: the BRDF id, and for an analytic model the model it is compiled with.
-type Variant = (u32, Option<AnalyticShader>);
+pub(super) type Variant = (u32, Option<AnalyticShader>);
 
 /// The variant that evaluates `brdf`.
-fn variant(brdf: &Brdf) -> Variant {
+pub(super) fn variant(brdf: &Brdf) -> Variant {
     (brdf_id(brdf), analytic_shader(brdf))
 }
 
 /// A probe shader: its module and layout, each analytic model's module, and its pipeline for each variant
 /// built so far.
-struct Shader {
+pub(super) struct Shader {
     file: &'static str,
     /// The BRDF evaluations an item takes (a case one, a cell 15 x 15).
     evaluations: usize,
@@ -161,7 +162,7 @@ impl Shader {
     }
 
     /// The pipeline for `variant`, built on first use (an analytic model's shader compiled by `compiler`).
-    fn pipeline(&mut self, device: &Arc<Device>, compiler: &ShaderCompiler, variant: &Variant) -> Result<&Pipeline> {
+    pub(super) fn pipeline(&mut self, device: &Arc<Device>, compiler: &ShaderCompiler, variant: &Variant) -> Result<&Pipeline> {
         if !self.pipelines.contains_key(variant) {
             let (brdf, analytic) = variant;
             let module = match analytic {
@@ -193,7 +194,8 @@ pub struct ProbeContext<'a> {
 }
 
 impl ProbePass {
-    /// Compiles `brdf_probe.comp` and `brdf_albedo.comp`; their pipelines are built when first used.
+    /// Compiles `brdf_probe.comp`, `brdf_albedo.comp` and `brdf_sample.comp`; their pipelines are built when
+    /// first used.
     ///
     /// # Errors
     /// `Error::Shader` or `Error::Vulkan`.
@@ -201,6 +203,7 @@ impl ProbePass {
         Ok(Self {
             eval: Shader::new(device, compiler, ("brdf_probe.comp", 1), (6, 3))?,
             albedo: Shader::new(device, compiler, ("brdf_albedo.comp", 15 * 15), (6, 1))?,
+            sampler: Shader::new(device, compiler, ("brdf_sample.comp", 1), (6, 4))?,
             device: device.clone(),
         })
     }
@@ -356,7 +359,7 @@ fn run_by_brdf<'a, T, G: Copy>(
 /// Runs `pipeline` `push[0]` times (its push constants `push`, the first of which is the count) over `inputs`
 /// (its first bindings), a results buffer of `result_size` bytes per run (the next), the measured tables, and
 /// the analytic values and report (the last), and returns the results' bytes.
-fn dispatch(
+pub(super) fn dispatch(
     device: &Arc<Device>,
     pipeline: &Pipeline,
     inputs: &[&Buffer],
@@ -410,12 +413,12 @@ fn dispatch(
 }
 
 /// How many elements of `T` one storage buffer may hold (`maxStorageBufferRange`: 128 MiB on lavapipe).
-fn per_buffer<T>(device: &Device) -> usize {
+pub(super) fn per_buffer<T>(device: &Device) -> usize {
     (device.limits.max_storage_buffer_range as usize / std::mem::size_of::<T>()).max(1)
 }
 
 /// `n` as a push constant, which is 32 bits: a count past them is more than any buffer holds.
-fn push_constant(n: usize) -> Result<u32> {
+pub(super) fn push_constant(n: usize) -> Result<u32> {
     u32::try_from(n).map_err(|_| Error::Vulkan(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY))
 }
 

@@ -1,0 +1,133 @@
+//! The sampler probe (`shaders/brdf_sample.comp`): a material's own sampler (`material_sample` of
+//! `shaders/common/sampling.glsl`) run on the GPU for one view direction, and its density with
+//! f_r cos(theta_i) at given directions, read back as float32, in the frame n = +z, X = +x.
+
+use ash::vk;
+use glam::{Vec3, Vec4};
+
+use super::gpu_types::GpuMaterial;
+use super::probe::{dispatch, per_buffer, push_constant, variant, GpuAlbedoJob, ProbeContext, ProbePass};
+use super::probe::EVALUATIONS_PER_DISPATCH;
+use super::Renderer;
+use crate::brdf::Brdf;
+use crate::error::Result;
+use crate::vulkan::Buffer;
+
+/// One draw of a material's sampler.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrdfSample {
+    /// The unit direction drawn towards the light; one below the surface (z <= 0) is no sample.
+    pub wi: Vec3,
+    /// The sampler's density at `wi` per solid angle (0 for no sample).
+    pub pdf: f32,
+    /// f_r(wi, wo) (0 for no sample).
+    pub f: Vec3,
+}
+
+/// A material's sampler's density at one direction, with what it samples for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SamplerDensity {
+    /// The density per solid angle of drawing the direction (0 below the surface).
+    pub pdf: f32,
+    /// f_r(wi, wo) cos(theta_i) there (0 below the surface).
+    pub f_cos: Vec3,
+}
+
+/// The draw mode's result of a sample: (wi, pdf) and (f, 0).
+type GpuSample = [Vec4; 2];
+
+impl ProbePass {
+    /// Samples `range` (first index, count) of the random stream `seed` of `brdf`'s sampler seen from `wo`.
+    fn draw_samples(
+        &mut self,
+        (brdf, wo): (&Brdf, Vec3),
+        (first, count): (u64, usize),
+        seed: u32,
+        context: ProbeContext,
+    ) -> Result<Vec<BrdfSample>> {
+        let size = std::mem::size_of::<GpuSample>();
+        let job = self.sampler_job(brdf, wo, context)?;
+        // Draw mode reads no directions: a placeholder stands at their binding.
+        let none = self.device.create_buffer_with_data(&[Vec4::ZERO], vk::BufferUsageFlags::STORAGE_BUFFER, "none")?;
+        let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<GpuSample>(&self.device));
+        let pipeline = self.sampler.pipeline(&self.device, context.compiler, &variant(brdf))?;
+        let mut samples = Vec::with_capacity(count);
+        for start in (0..count).step_by(per_dispatch) {
+            let n = per_dispatch.min(count - start);
+            // The stream's index is 32 bits: a test draws far fewer.
+            let index = push_constant((first + start as u64) as usize)?;
+            let push = [push_constant(n)?, index, 1, seed];
+            let bytes = dispatch(&self.device, pipeline, &[&job, &none], context.data, size, &push)?;
+            samples.extend(floats(&bytes).chunks_exact(8).map(|v| BrdfSample {
+                wi: Vec3::new(v[0], v[1], v[2]),
+                pdf: v[3],
+                f: Vec3::new(v[4], v[5], v[6]),
+            }));
+        }
+        Ok(samples)
+    }
+
+    /// The density of `brdf`'s sampler seen from `wo`, and f_r cos(theta_i), at each of `directions`.
+    fn sampler_densities(
+        &mut self,
+        (brdf, wo): (&Brdf, Vec3),
+        directions: &[Vec3],
+        context: ProbeContext,
+    ) -> Result<Vec<SamplerDensity>> {
+        let job = self.sampler_job(brdf, wo, context)?;
+        let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<Vec4>(&self.device));
+        let pipeline = self.sampler.pipeline(&self.device, context.compiler, &variant(brdf))?;
+        let mut densities = Vec::with_capacity(directions.len());
+        for part in directions.chunks(per_dispatch) {
+            let padded: Vec<Vec4> = part.iter().map(|d| d.extend(0.0)).collect();
+            let input =
+                self.device.create_buffer_with_data(&padded, vk::BufferUsageFlags::STORAGE_BUFFER, "sampler directions")?;
+            let push = [push_constant(part.len())?, 0, 0, 0];
+            let bytes = dispatch(&self.device, pipeline, &[&job, &input], context.data, 16, &push)?;
+            densities.extend(
+                floats(&bytes).chunks_exact(4).map(|v| SamplerDensity { pdf: v[0], f_cos: Vec3::new(v[1], v[2], v[3]) }),
+            );
+        }
+        Ok(densities)
+    }
+
+    /// The job buffer of `brdf_sample.comp`: the material and wo.
+    fn sampler_job(&self, brdf: &Brdf, wo: Vec3, context: ProbeContext) -> Result<Buffer> {
+        let job = GpuAlbedoJob { material: GpuMaterial::new(brdf, context.data), wo: wo.extend(0.0).into() };
+        self.device.create_buffer_with_data(&[job], vk::BufferUsageFlags::STORAGE_BUFFER, "sampler job")
+    }
+}
+
+/// The f32 of a result buffer's bytes.
+fn floats(bytes: &[u8]) -> Vec<f32> {
+    bytes.chunks_exact(4).map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]])).collect()
+}
+
+impl Renderer {
+    /// `count` draws of `brdf`'s own sampler (`material_sample`, the exact mode's lobes) seen from the unit
+    /// direction `wo` (frame n = +z, X = +x), from index `first` of the random stream `seed`: independent
+    /// uniform points of pcg2d, the same on every run.
+    ///
+    /// # Errors
+    /// As [`Renderer::probe_brdfs`].
+    pub fn draw_brdf_samples(
+        &mut self,
+        brdf: &Brdf,
+        wo: Vec3,
+        (first, count): (u64, usize),
+        seed: u32,
+    ) -> Result<Vec<BrdfSample>> {
+        self.with_probe(std::iter::once(brdf), |probe, context| {
+            probe.draw_samples((brdf, wo), (first, count), seed, context)
+        })
+    }
+
+    /// The density of `brdf`'s sampler seen from `wo` (`material_pdf`) and f_r cos(theta_i), at each of
+    /// `directions` (frame n = +z, X = +x).
+    ///
+    /// # Errors
+    /// As [`Renderer::probe_brdfs`].
+    pub fn brdf_sampler_densities(&mut self, brdf: &Brdf, wo: Vec3, directions: &[Vec3]) -> Result<Vec<SamplerDensity>> {
+        self.with_probe(std::iter::once(brdf), |probe, context| probe.sampler_densities((brdf, wo), directions, context))
+    }
+}
