@@ -80,23 +80,21 @@ float cosine_power_pdf(vec3 axis, float s, vec3 w) {
 
 // GGX's visible normals (Heitz 2018, "Sampling the GGX distribution of visible normals"): half vectors
 // in proportion to G1(wo) max(0, wo . h) D(h) / (n . wo), so that a sample's weight f cos / pdf is nearly
-// F alone, even at grazing views.
+// F alone, even at grazing views. Drawn as Dupuy and Benyoub 2023 draw them ("Sampling visible GGX normals
+// with spherical caps"): in the view stretched to alpha = 1 (v), a point of the unit sphere's cap z >= -v.z
+// drawn uniformly, plus v, is a visible normal. Each term straight from u, 1 - z = u.x (1 + v.z) and
+// z + v.z = (1 - u.x)(1 + v.z), for where they are a few floats is a sharp lobe's tail: Heitz's
+// 1 - p1^2 - p2^2 there sent 10 samples in 10^6 of GGX at alpha = 10^-4 seen at 85 degrees tens of degrees
+// off, which Pearson's chi-square caught.
 vec3 ggx_visible_normal_sample(vec3 n, vec3 wo, float alpha, vec2 u) {
     vec3 t = around(n, 0.0, 0.0);
     vec3 b = cross(n, t);
-    vec3 v = vec3(dot(wo, t), dot(wo, b), dot(wo, n));
-    vec3 stretched = normalize(vec3(alpha * v.x, alpha * v.y, v.z));
-    float length_squared = stretched.x * stretched.x + stretched.y * stretched.y;
-    vec3 t1 = length_squared > 0.0 ? vec3(-stretched.y, stretched.x, 0.0) * inversesqrt(length_squared)
-                                   : vec3(1.0, 0.0, 0.0);
-    vec3 t2 = cross(stretched, t1);
-    float r = sqrt(u.x);
+    vec3 v = normalize(vec3(alpha * dot(wo, t), alpha * dot(wo, b), dot(wo, n)));
+    float one_minus_z = u.x * (1.0 + v.z);
+    float sin_theta = sqrt(max(one_minus_z * (2.0 - one_minus_z), 0.0));
     float phi = 2.0 * PI * u.y;
-    float p1 = r * cos(phi);
-    float s = 0.5 * (1.0 + stretched.z);
-    float p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
-    vec3 visible = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * stretched;
-    vec3 h = normalize(vec3(alpha * visible.x, alpha * visible.y, max(visible.z, 0.0)));
+    vec3 h = vec3(sin_theta * cos(phi) + v.x, sin_theta * sin(phi) + v.y, (1.0 - u.x) * (1.0 + v.z));
+    h = normalize(vec3(alpha * h.x, alpha * h.y, h.z));
     return h.x * t + h.y * b + h.z * n;
 }
 

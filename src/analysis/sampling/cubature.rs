@@ -1,8 +1,10 @@
 //! A sampler's density and f_r cos θi integrated over each cell of the χ² grid, by adaptive cubature: each
 //! piece of a cell is integrated by Gauss-Legendre's six-point rule in cos θ and φ (the solid angle is
-//! dcos θ dφ, so the rule needs no Jacobian), whole and in halves along either axis; where the halves
-//! disagree with the whole by more than the tolerance, the piece is cut in two along the axis where they
-//! disagree most, its halves' integrals becoming the new pieces' wholes, as QUADPACK refines an interval.
+//! dcos θ dφ, so the rule needs no Jacobian), whole and in halves along either axis, whose disagreement
+//! bounds the error. While a cell's bounds add up to more than its count's tolerance (a tenth of its noise),
+//! or all the cells' to more than the no-sample count's, or f_r cos θi's to more than the albedo's, the
+//! pieces of largest bound are cut in two along the axis where the halves disagree most, their halves'
+//! integrals becoming the new pieces' wholes: global adaptive cubature, as QUADPACK's QAG refines.
 //!
 //! A lobe narrower than the rule's nodes is invisible to both estimates, which then agree on nothing (GGX of
 //! α = 10⁻⁴ seen head-on spans 10⁻⁸ of cos θ below the pole, in a cell 0.025 high). The samples show where
@@ -12,8 +14,6 @@
 //!
 //! Near the poles cos θ is taken from x and y, 1 - cos θ = (x² + y²) / (1 + |z|), not from z, whose float
 //! loses what such a lobe is made of.
-
-use std::f64::consts::PI;
 
 use glam::DVec3;
 
@@ -34,11 +34,14 @@ const MAX_DEPTH: u32 = 48;
 /// its bound.
 const MAX_EVALUATIONS: usize = 1 << 25;
 
-/// The tolerance on a cell's expected count, as a share of its noise √E: the integral's error is a tenth of
-/// what the samples can tell.
+/// The tolerance on a count expected, as a share of its noise √E: the integral's error is a tenth of what the
+/// samples can tell, and never need be below [`COUNT_FLOOR`] samples.
 const COUNT_TOLERANCE: f64 = 0.1;
 
-/// The tolerance on the directional albedo's integral over the whole hemisphere, shared by solid angle.
+/// The smallest tolerance on a count expected, in samples: float32 densities sum to about this at 10⁶.
+const COUNT_FLOOR: f64 = 1.0;
+
+/// The tolerance on the directional albedo's integral over the whole hemisphere.
 const ALBEDO_TOLERANCE: f64 = 1e-4;
 
 /// The six-point Gauss-Legendre rule on [-1, 1]: nodes and weights.
@@ -117,34 +120,69 @@ impl Piece {
         }
     }
 
-    /// The difference between each axis's halves and the whole, per component.
-    fn differences(&self) -> [Integrand; 2] {
+    /// The disagreement of each axis's halves with the whole: the density's, f_r cos θi's largest channel's.
+    fn differences(&self) -> [(f64, f64); 2] {
         let difference = |axis: usize| {
             let [a, b] = self.halves[axis];
-            std::array::from_fn(|k| (a[k] + b[k] - self.whole[k]).abs())
+            let d: Integrand = std::array::from_fn(|k| (a[k] + b[k] - self.whole[k]).abs());
+            (d[0], d[1].max(d[2]).max(d[3]))
         };
         [difference(0), difference(1)]
     }
 
-    /// The piece's estimate (the halves along the axis they disagree most with the whole) and its bound
-    /// (the larger disagreement), per component.
-    fn estimate(&self, tolerances: (f64, f64)) -> (usize, Integrand, Integrand) {
-        let differences = self.differences();
-        let axis = usize::from(normalized(&differences[1], tolerances) > normalized(&differences[0], tolerances));
-        let [a, b] = self.halves[axis];
-        let bound = std::array::from_fn(|k| differences[0][k].max(differences[1][k]));
-        (axis, std::array::from_fn(|k| a[k] + b[k]), bound)
+    /// The axis whose halves disagree most with the whole, the density's disagreement weighed against
+    /// `density_scale` and f_r cos θi's against `f_scale`.
+    fn worst_axis(&self, (density_scale, f_scale): (f64, f64)) -> usize {
+        let weigh = |(p, f): (f64, f64)| p / density_scale + f / f_scale;
+        let [a, b] = self.differences();
+        usize::from(weigh(b) > weigh(a))
     }
 
-    fn area(&self) -> f64 {
-        (self.bounds.1 - self.bounds.0) * (self.bounds.3 - self.bounds.2)
+    /// The piece's estimate, the mean of its two pairs of halves, and its bounds (the larger disagreement),
+    /// the density's and f_r cos θi's.
+    fn estimate(&self) -> (Integrand, (f64, f64)) {
+        let [[a, b], [c, d]] = self.halves;
+        let estimate = std::array::from_fn(|k| 0.5 * ((a[k] + b[k]) + (c[k] + d[k])));
+        let [x, y] = self.differences();
+        (estimate, (x.0.max(y.0), x.1.max(y.1)))
+    }
+
+    /// The piece cut in two along `axis`, each half's whole its rule's half, its samples shared out.
+    fn cut(self, axis: usize, samples: &[(f64, f64)]) -> [Piece; 2] {
+        let halves = Piece::split_bounds(self.bounds, axis);
+        let middle = if axis == 0 { halves[0].1 } else { halves[0].3 };
+        let (low, high): (Vec<u32>, Vec<u32>) =
+            self.samples.iter().partition(|&&i| along(samples[i as usize], axis) < middle);
+        let child = |half: usize, samples: Vec<u32>| Piece {
+            cell: self.cell,
+            bounds: halves[half],
+            depth: self.depth + 1,
+            whole: self.halves[axis][half],
+            halves: [[[0.0; 4]; 2]; 2],
+            samples,
+        };
+        [child(0, low), child(1, high)]
+    }
+
+    /// The axis whose halves divide the piece's samples most unevenly.
+    fn uneven_axis(&self, samples: &[(f64, f64)]) -> usize {
+        let imbalance = |axis: usize| {
+            let (c0, c1, p0, p1) = self.bounds;
+            let middle = if axis == 0 { 0.5 * (c0 + c1) } else { 0.5 * (p0 + p1) };
+            let below = self.samples.iter().filter(|&&i| along(samples[i as usize], axis) < middle).count();
+            below.abs_diff(self.samples.len() - below)
+        };
+        usize::from(imbalance(1) > imbalance(0))
     }
 }
 
-/// An error measured against its tolerances: the density's, and f_r cos θi's largest channel's.
-fn normalized(error: &Integrand, (density, f_cos): (f64, f64)) -> f64 {
-    let f = error[1].max(error[2]).max(error[3]);
-    (error[0] / density.max(f64::MIN_POSITIVE)).max(f / f_cos.max(f64::MIN_POSITIVE))
+/// A sample's coordinate along `axis`.
+fn along((cos_theta, phi): (f64, f64), axis: usize) -> f64 {
+    if axis == 0 {
+        cos_theta
+    } else {
+        phi
+    }
 }
 
 /// The six-point rule's 36 directions on `bounds`.
@@ -171,6 +209,45 @@ fn rule(bounds: (f64, f64, f64, f64), values: &[Integrand]) -> Integrand {
     sum
 }
 
+/// Evaluates the halves along both axes of each piece.
+fn evaluate_halves(
+    pieces: &mut [Piece],
+    evaluate: &mut impl FnMut(&[DVec3]) -> Result<Vec<Integrand>>,
+) -> Result<usize> {
+    let directions: Vec<DVec3> = pieces
+        .iter()
+        .flat_map(|p| (0..2).flat_map(move |axis| Piece::split_bounds(p.bounds, axis)))
+        .flat_map(nodes)
+        .collect();
+    let values = evaluate(&directions)?;
+    for (piece, values) in pieces.iter_mut().zip(values.chunks_exact(4 * 36)) {
+        for axis in 0..2 {
+            for (half, bounds) in Piece::split_bounds(piece.bounds, axis).into_iter().enumerate() {
+                let at = (2 * axis + half) * 36;
+                piece.halves[axis][half] = rule(bounds, &values[at..at + 36]);
+            }
+        }
+    }
+    Ok(directions.len())
+}
+
+/// Takes from `candidates` (piece index, bound) the largest bounds until what is left adds up to at most
+/// half of `tolerance`, when all add up to more than it.
+fn largest_bounds(mut candidates: Vec<(usize, f64)>, tolerance: f64, chosen: &mut [bool]) {
+    let mut total: f64 = candidates.iter().map(|c| c.1).sum();
+    if total <= tolerance {
+        return;
+    }
+    candidates.sort_by(|a, b| b.1.total_cmp(&a.1));
+    for (index, bound) in candidates {
+        if total <= 0.5 * tolerance {
+            break;
+        }
+        chosen[index] = true;
+        total -= bound;
+    }
+}
+
 /// Integrates the density and f_r cos θi over every cell of `grid`, `evaluate` giving both at a batch of
 /// directions; `samples` are the (cos θ, φ) of the samples drawn (by [`coordinates`]), `total` how many were
 /// drawn (no sample included), which set the tolerances on the counts expected.
@@ -188,8 +265,9 @@ pub fn integrate_cells(
     for (index, &(cos_theta, phi)) in samples.iter().enumerate() {
         in_cell[grid.cell_at(cos_theta, phi)].push(index as u32);
     }
-    // The first pieces, the cells, with their wholes.
-    let mut pending: Vec<Piece> = in_cell
+    let counted: Vec<usize> = in_cell.iter().map(Vec::len).collect();
+    // The first pieces, the cells, with their wholes and halves.
+    let mut pieces: Vec<Piece> = in_cell
         .into_iter()
         .enumerate()
         .map(|(cell, samples)| Piece {
@@ -201,111 +279,85 @@ pub fn integrate_cells(
             samples,
         })
         .collect();
-    let wholes: Vec<DVec3> = pending.iter().flat_map(|p| nodes(p.bounds)).collect();
+    let wholes: Vec<DVec3> = pieces.iter().flat_map(|p| nodes(p.bounds)).collect();
     let mut evaluations = wholes.len();
-    for (piece, values) in pending.iter_mut().zip(evaluate(&wholes)?.chunks_exact(36)) {
+    for (piece, values) in pieces.iter_mut().zip(evaluate(&wholes)?.chunks_exact(36)) {
         piece.whole = rule(piece.bounds, values);
     }
-    let cell_area = 4.0 * PI / cells as f64;
-    // Each cell's count tolerance from the larger of its first estimate and what fell in it.
-    let count_tolerance: Vec<f64> = pending
-        .iter()
-        .map(|p| (COUNT_TOLERANCE * (p.whole[0] * total as f64).max(p.samples.len() as f64).sqrt()).max(0.01))
-        .collect();
+    evaluations += evaluate_halves(&mut pieces, &mut evaluate)?;
+    let n = total.max(1) as f64;
+    let count_tolerance = |expected: f64| (COUNT_TOLERANCE * expected.max(0.0).sqrt()).max(COUNT_FLOOR) / n;
+    let mut converged = false;
+    while evaluations < MAX_EVALUATIONS {
+        crate::interrupt::check()?;
+        let estimates: Vec<(Integrand, (f64, f64))> = pieces.iter().map(Piece::estimate).collect();
+        // Each cell's count tolerance from the larger of its estimate and what fell in it; all the cells'
+        // together from the no-sample count's, which is 1 less their sum.
+        let mut expected = vec![0.0; cells];
+        for (piece, (estimate, _)) in pieces.iter().zip(&estimates) {
+            expected[piece.cell] += estimate[0] * n;
+        }
+        let cell_tolerance: Vec<f64> =
+            expected.iter().zip(&counted).map(|(&e, &c)| count_tolerance(e.max(c as f64))).collect();
+        let shortfall = n - expected.iter().sum::<f64>();
+        let total_tolerance = count_tolerance(shortfall);
+        let scales = (total_tolerance, ALBEDO_TOLERANCE);
+        let bounds: Vec<(f64, f64)> = estimates.iter().map(|e| e.1).collect();
+        let mut chosen = vec![false; pieces.len()];
+        let mut by_cell: Vec<Vec<(usize, f64)>> = vec![Vec::new(); cells];
+        for (index, piece) in pieces.iter().enumerate() {
+            by_cell[piece.cell].push((index, bounds[index].0));
+            chosen[index] = piece.samples.len() > SPLIT_SAMPLES;
+        }
+        for (cell, candidates) in by_cell.into_iter().enumerate() {
+            largest_bounds(candidates, cell_tolerance[cell], &mut chosen);
+        }
+        largest_bounds(bounds.iter().map(|b| b.0).enumerate().collect(), total_tolerance, &mut chosen);
+        largest_bounds(bounds.iter().map(|b| b.1).enumerate().collect(), ALBEDO_TOLERANCE, &mut chosen);
+        let mut kept = Vec::with_capacity(pieces.len());
+        let mut cut = Vec::new();
+        for (piece, chosen) in pieces.into_iter().zip(chosen) {
+            if !chosen || piece.depth >= MAX_DEPTH {
+                kept.push(piece);
+                continue;
+            }
+            let crowded_only =
+                piece.samples.len() > SPLIT_SAMPLES && piece.estimate().1 .0 <= cell_tolerance[piece.cell] * 1e-3;
+            let axis = if crowded_only { piece.uneven_axis(samples) } else { piece.worst_axis(scales) };
+            cut.extend(piece.cut(axis, samples));
+        }
+        pieces = kept;
+        if cut.is_empty() {
+            converged = true;
+            break;
+        }
+        evaluations += evaluate_halves(&mut cut, &mut evaluate)?;
+        pieces.extend(cut);
+    }
     let mut integrals = CellIntegrals {
         probability: vec![0.0; cells],
         probability_error: vec![0.0; cells],
         f_cos: vec![[0.0; 3]; cells],
         f_cos_error: 0.0,
-        converged: true,
-        evaluations: 0,
+        converged,
+        evaluations,
     };
-    while !pending.is_empty() {
-        crate::interrupt::check()?;
-        // Each pending piece's halves along both axes.
-        let directions: Vec<DVec3> = pending
-            .iter()
-            .flat_map(|p| (0..2).flat_map(move |axis| Piece::split_bounds(p.bounds, axis)))
-            .flat_map(nodes)
-            .collect();
-        evaluations += directions.len();
-        let values = evaluate(&directions)?;
-        let mut next = Vec::new();
-        for (mut piece, values) in pending.into_iter().zip(values.chunks_exact(4 * 36)) {
-            for axis in 0..2 {
-                for (half, bounds) in Piece::split_bounds(piece.bounds, axis).into_iter().enumerate() {
-                    let at = (2 * axis + half) * 36;
-                    piece.halves[axis][half] = rule(bounds, &values[at..at + 36]);
-                }
-            }
-            let share = piece.area() / cell_area;
-            let tolerances = (
-                share * count_tolerance[piece.cell] / total.max(1) as f64,
-                share * ALBEDO_TOLERANCE * cell_area / (2.0 * PI),
-            );
-            let (axis, estimate, bound) = piece.estimate(tolerances);
-            let crowded = piece.samples.len() > SPLIT_SAMPLES;
-            let unresolved = normalized(&bound, tolerances) > 1.0;
-            if (crowded || unresolved) && piece.depth < MAX_DEPTH && evaluations < MAX_EVALUATIONS {
-                let axis = if crowded && !unresolved { uneven_axis(&piece, samples) } else { axis };
-                next.extend(piece.cut(axis, samples));
-                continue;
-            }
-            integrals.converged &= !unresolved;
-            integrals.probability[piece.cell] += estimate[0];
-            integrals.probability_error[piece.cell] += bound[0];
-            for k in 0..3 {
-                integrals.f_cos[piece.cell][k] += estimate[k + 1];
-            }
-            integrals.f_cos_error += bound[1].max(bound[2]).max(bound[3]);
+    for piece in &pieces {
+        let (estimate, (density_bound, f_bound)) = piece.estimate();
+        integrals.probability[piece.cell] += estimate[0];
+        integrals.probability_error[piece.cell] += density_bound;
+        for k in 0..3 {
+            integrals.f_cos[piece.cell][k] += estimate[k + 1];
         }
-        pending = next;
+        integrals.f_cos_error += f_bound;
     }
-    integrals.evaluations = evaluations;
     Ok(integrals)
-}
-
-/// The axis whose halves divide the piece's samples most unevenly.
-fn uneven_axis(piece: &Piece, samples: &[(f64, f64)]) -> usize {
-    let imbalance = |axis: usize| {
-        let (c0, c1, p0, p1) = piece.bounds;
-        let middle = if axis == 0 { 0.5 * (c0 + c1) } else { 0.5 * (p0 + p1) };
-        let below = piece
-            .samples
-            .iter()
-            .filter(|&&i| {
-                let (cos_theta, phi) = samples[i as usize];
-                (if axis == 0 { cos_theta } else { phi }) < middle
-            })
-            .count();
-        below.abs_diff(piece.samples.len() - below)
-    };
-    usize::from(imbalance(1) > imbalance(0))
-}
-
-impl Piece {
-    /// The piece cut in two along `axis`, each half's whole its rule's half, its samples shared out.
-    fn cut(self, axis: usize, samples: &[(f64, f64)]) -> [Piece; 2] {
-        let halves = Piece::split_bounds(self.bounds, axis);
-        let middle = if axis == 0 { halves[0].1 } else { halves[0].3 };
-        let (low, high): (Vec<u32>, Vec<u32>) = self.samples.iter().partition(|&&i| {
-            let (cos_theta, phi) = samples[i as usize];
-            (if axis == 0 { cos_theta } else { phi }) < middle
-        });
-        let child = |half: usize, samples: Vec<u32>| Piece {
-            cell: self.cell,
-            bounds: halves[half],
-            depth: self.depth + 1,
-            whole: self.halves[axis][half],
-            halves: [[[0.0; 4]; 2]; 2],
-            samples,
-        };
-        [child(0, low), child(1, high)]
-    }
 }
 
 #[cfg(test)]
 mod tests {
+    use std::f64::consts::PI;
+
     use super::*;
 
     const GRID: SphereGrid = SphereGrid { cos_bins: 20, phi_bins: 40 };

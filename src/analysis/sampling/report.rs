@@ -126,7 +126,7 @@ fn draw_panel<DB: DrawingBackend>(
 pub fn views_csv(report: &SamplingReport) -> String {
     let mut csv = String::from(
         "theta_o,phi_o,samples,chi_square,degrees_of_freedom,p_value,level,cells_pooled,impossible_samples,\
-         no_sample,invalid,density_integral,density_bound,density_below,estimate_r,estimate_g,estimate_b,\
+         no_sample,no_sample_tested,invalid,density_integral,density_bound,density_below,estimate_r,estimate_g,estimate_b,\
          standard_error_r,standard_error_g,standard_error_b,albedo_r,albedo_g,albedo_b,albedo_bound,passed\n",
     );
     for view in &report.views {
@@ -138,7 +138,8 @@ pub fn views_csv(report: &SamplingReport) -> String {
             .iter()
             .map(f64::to_string)
             .chain([chi.degrees_of_freedom.to_string(), chi.p_value.to_string(), report.level_each.to_string()])
-            .chain([chi.pooled, chi.impossible as usize, view.no_sample as usize, view.invalid as usize].map(|n| n.to_string()))
+            .chain([chi.pooled.to_string(), chi.impossible.to_string(), view.no_sample.to_string()])
+            .chain([view.no_sample_tested.to_string(), view.invalid.to_string()])
             .chain([integral, bound, view.density_below()].map(|v| v.to_string()))
             .chain(view.estimate.iter().chain(&view.standard_error).chain(&albedo).map(f64::to_string))
             .chain([view.cells.f_cos_error.to_string(), passed.to_string()])
