@@ -21,6 +21,14 @@ const GOOD: &str = "analytic\n# a comment\n::begin parameters\nfloat alpha 0.01 
                     vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)\n{\n    return kd / PI * (useF ? 1.0 : alpha + 0.7);\n}\n\
                     ::end shader\n";
 
+/// GOOD with an importance sampler after its shader, from line 15.
+fn with_sampler() -> String {
+    format!(
+        "{GOOD}::begin isFunc\nvec3 sampleBRDF(vec3 V, vec3 N, vec3 X, vec3 Y, vec2 u)\n{{\n    return N;\n}}\n\
+         float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)\n{{\n    return 1.0;\n}}\n::end isFunc\n"
+    )
+}
+
 /// The scene and its `.brdf` file written into `folder`.
 fn write(folder: &Path, brdf: &str, params: &str) -> PathBuf {
     std::fs::write(folder.join("brdf.brdf"), brdf).unwrap();
@@ -85,7 +93,7 @@ fn every_malformed_file_is_one_line_naming_its_line() {
         (edited("vec3 BRDF(", "vec3 brdf("), "brdf.brdf: the shader section defines no function `vec3 BRDF(vec3 L"),
         (
             edited("vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)", "float BRDF(vec3 L, vec3 V, vec3 N)"),
-            "brdf.brdf:10: the shader defines `float BRDF(vec3, vec3, vec3)`: vk-render calls `vec3 BRDF(",
+            "brdf.brdf:10: the shader section defines `float BRDF(vec3, vec3, vec3)`: vk-render calls `vec3 BRDF(",
         ),
         (edited("return kd / PI", "return kd / PI +"), "brdf.brdf:12: GLSL: "),
         (edited("return kd / PI * (useF ? 1.0 : alpha + 0.7);", "return alpha;"), "brdf.brdf:12: GLSL: "),
@@ -98,6 +106,25 @@ fn every_malformed_file_is_one_line_naming_its_line() {
     for (text, expected) in cases {
         fails(&text, "", &[prefix, expected]);
     }
+    // An isFunc section's functions, missing, mistyped or wrong, are named at the file's own lines.
+    let sampler = with_sampler();
+    let sampler_cases = [
+        (
+            sampler.replace("float pdfBRDF(", "float pdf("),
+            "brdf.brdf: the isFunc section defines no function `float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`",
+        ),
+        (
+            sampler.replace("vec3 sampleBRDF(vec3 V, vec3 N, vec3 X, vec3 Y, vec2 u)", "vec3 sampleBRDF(vec3 V, vec2 u)"),
+            "brdf.brdf:16: the isFunc section defines `vec3 sampleBRDF(vec3, vec2)`: vk-render calls `vec3 sampleBRDF(",
+        ),
+        (sampler.replace("    return N;", "    return N +;"), "brdf.brdf:18: GLSL: "),
+    ];
+    for (text, expected) in sampler_cases {
+        fails(&text, "", &[prefix, expected]);
+    }
+    let folder = temp_dir();
+    let (output, out) = render(&write(folder.path(), &sampler, ""), &[]);
+    assert!(output.status.success() && out.exists(), "{}", String::from_utf8_lossy(&output.stderr));
 }
 
 #[test]
@@ -190,11 +217,11 @@ fn a_sweep_steps_a_files_parameter() {
 }
 
 #[test]
-fn a_dropped_define_and_an_unused_sampler_are_warned_of() {
+fn a_dropped_define_and_an_unknown_section_are_warned_of() {
     let folder = temp_dir();
     let brdf = edited("const float PI", "#define TWO 2.0\nconst float PI").replace(
         "::end parameters\n",
-        "::end parameters\n::begin isFunc\nvec3 sampleBRDF() { return vec3(0); }\n::end isFunc\n",
+        "::end parameters\n::begin notes\nvec3 sampleBRDF() { return vec3(0); }\n::end notes\n",
     );
     let scene = write(folder.path(), &brdf, "");
     let (output, out) = render(&scene, &[]);
@@ -204,7 +231,7 @@ fn a_dropped_define_and_an_unused_sampler_are_warned_of() {
     let lines: Vec<&str> = stderr.lines().collect();
     assert_eq!(lines.len(), 2, "{stderr}");
     assert!(
-        lines.iter().any(|l| l.starts_with("warning: ") && l.contains("brdf.brdf: line 8: the isFunc section")),
+        lines.iter().any(|l| l.starts_with("warning: ") && l.contains("brdf.brdf: line 8: the section `notes`")),
         "{stderr}"
     );
     assert!(lines.iter().any(|l| l.contains("brdf.brdf: line 12: `#define TWO 2.0` is dropped")), "{stderr}");

@@ -9,9 +9,10 @@ use glam::Vec3;
 
 use common::{renderer, root, temp_dir, vk_render};
 use vk_render::analysis::sampling::{
-    test_sampler, SamplingOptions, SamplingReport, DEFAULT_LEVEL, DEFAULT_SAMPLES, DEFAULT_THETA_O,
+    is_isotropic, test_sampler, SamplingOptions, SamplingReport, DEFAULT_LEVEL, DEFAULT_PHI_O, DEFAULT_SAMPLES,
+    DEFAULT_THETA_O,
 };
-use vk_render::brdf::{Brdf, DiffuseModel};
+use vk_render::brdf::{Analytic, Brdf, DiffuseModel, ParameterValue};
 use vk_render::vulkan::ShaderSources;
 
 /// Every default view (θo 0 to 85°, φo 0: the built-in models are isotropic), 10⁶ samples each.
@@ -66,6 +67,41 @@ fn every_built_in_sampler_passes_from_sharp_to_rough() {
         assert!(report.passed(), "{brdf:?}: {:#?}", failures(&report));
         // The views' p-values are spread, not all near 1 (a density counted twice would pass loosely).
         assert!(report.views.iter().any(|v| v.chi_square.p_value < 0.95), "{brdf:?}");
+    }
+}
+
+/// A shipped `.brdf` model with `params` set.
+fn shipped(file: &str, params: &[(&str, ParameterValue)]) -> Brdf {
+    let material = params
+        .iter()
+        .try_fold(Analytic::defaults(common::shipped(file)), |m, (name, value)| m.with(name, *value))
+        .unwrap();
+    Brdf::Analytic(material)
+}
+
+#[test]
+fn every_shipped_sampler_passes_from_sharp_to_rough() {
+    // GGX's visible normals (Walter et al.'s model) and Ward's half vectors (Walter 2005), sharp to rough, over
+    // a diffuse base, isotropic and (Ward) anisotropic both ways, at every view and, where the model is
+    // anisotropic, every azimuth.
+    let float = ParameterValue::Float;
+    let grey = |v: f32| ParameterValue::Color(Vec3::splat(v));
+    let mut brdfs = Vec::new();
+    for alpha in [0.01, 0.1, 0.4, 1.0] {
+        brdfs.push(shipped("walter_ggx.brdf", &[("alpha", float(alpha)), ("kd", grey(0.1)), ("f0", grey(0.5))]));
+    }
+    for (x, y) in [(0.01, 0.01), (0.2, 0.2), (1.0, 1.0), (0.05, 0.4)] {
+        let params = [("alpha_x", float(x)), ("alpha_y", float(y)), ("rho_d", grey(0.3)), ("rho_s", grey(0.1))];
+        brdfs.push(shipped("ward.brdf", &params));
+    }
+    let mut renderer = renderer();
+    for brdf in &brdfs {
+        let mut options = options();
+        if !is_isotropic(&mut renderer, brdf).unwrap() {
+            options.views = DEFAULT_THETA_O.iter().flat_map(|&t| DEFAULT_PHI_O.map(|p| (t, p))).collect();
+        }
+        let report = test_sampler(&mut renderer, brdf, &options, || ()).unwrap();
+        assert!(report.passed(), "{}: {:#?}", vk_render::analysis::describe(brdf), failures(&report));
     }
 }
 
@@ -159,6 +195,16 @@ fn each_mutant_is_caught_by_its_test() {
         if !report.verdicts.iter().any(|v| v.test == mutant.caught_by && !v.passed) {
             missed.push(format!("{} (not caught by {}): {:#?}", mutant.name, mutant.caught_by, failures(&report)));
         }
+    }
+    // A .brdf file's sampler broken on purpose: Ward's density without the reflection's 1 / (4 V.H).
+    let ward = common::shipped("ward.brdf");
+    let text = ward.source().replace("NdotH * NdotH * NdotH * 4.0 * VdotH)", "NdotH * NdotH * NdotH)");
+    assert_ne!(text, ward.source());
+    let broken = vk_render::brdf::AnalyticModel::from_text(&ward.path, text).unwrap();
+    let report = test_sampler(&mut renderer, &Brdf::Analytic(Analytic::defaults(broken.into())), &options(), || ());
+    let report = report.unwrap();
+    if !report.verdicts.iter().any(|v| v.test == "chi-square" && !v.passed) {
+        missed.push(format!("ward.brdf's density without 1 / (4 V.H): {:#?}", failures(&report)));
     }
     assert!(missed.is_empty(), "{missed:#?}");
     // And the shaders put back pass again.

@@ -140,7 +140,7 @@ float environment_pdf(vec3 d) {
 // pass: passes are independent, so the spread of their means is the error of their mean.
 vec3 environment_exact(Material m, vec3 n, vec3 t, vec3 wo) {
     uint count = samples_per_pass;
-    uint lobe_count = has_lobe(m) ? (count * 7u) / 16u : 0u;
+    uint lobe_count = has_sampler(m) ? (count * 7u) / 16u : 0u;
     // The environment takes half of what a diffuse material samples, 5/16 beside a lobe (7/16).
     uint environment_count = sampling_size.x == 0u ? 0u : (lobe_count > 0u ? (count * 5u) / 16u : count / 2u);
     uint cosine_count = count - lobe_count - environment_count;
@@ -153,14 +153,14 @@ vec3 environment_exact(Material m, vec3 n, vec3 t, vec3 wo) {
         for (uint k = 0u; k < counts[strategy]; ++k) {
             vec2 u = sequence_point(pixel, 3u * pass_index + strategy, k);
             vec3 wi = strategy == 0u ? cosine_sample(n, u)
-                                     : (strategy == 1u ? lobe_sample(m, n, wo, u) : environment_sample(u));
+                                     : (strategy == 1u ? lobe_sample(m, n, t, wo, u) : environment_sample(u));
             float NoL = dot(n, wi);
             if (NoL <= 0.0) {
                 continue;
             }
             float pdf = shares.x * cosine_pdf(n, wi);
             if (lobe_count > 0u) {
-                pdf += shares.y * lobe_pdf(m, n, wi, wo);
+                pdf += shares.y * lobe_pdf(m, n, t, wi, wo);
             }
             if (environment_count > 0u) {
                 pdf += shares.z * environment_pdf(wi);

@@ -104,7 +104,7 @@ float ggx_g1(float NoV, float alpha) {
     return 2.0 * NoV / (NoV + sqrt(a2 + (1.0 - a2) * NoV * NoV));
 }
 
-// Whether the material has a specular lobe to draw directions from.
+// Whether the material has a specular lobe to draw directions from (the fast mode prefilters it too).
 bool has_lobe(Material m) {
     switch (brdf_id(m)) {
         case BRDF_PHONG:
@@ -117,10 +117,26 @@ bool has_lobe(Material m) {
     }
 }
 
-// A direction from the material's specular lobe: about the mirror of wo for Phong (its lobe times cos is
+// Whether the material has a sampler of its own, beside the cosine: a specular lobe, or a .brdf file's
+// isFunc section (its sampleBRDF and pdfBRDF, src/brdf/analytic/glsl.rs).
+bool has_sampler(Material m) {
+#ifdef ANALYTIC_HAS_SAMPLER
+    if (brdf_id(m) == BRDF_ANALYTIC) {
+        return true;
+    }
+#endif
+    return has_lobe(m);
+}
+
+// A direction from the material's own sampler: about the mirror of wo for Phong (its lobe times cos is
 // (wi . r)^s exactly), a half vector for Blinn-Phong ((n . h)^s) and Cook-Torrance (GGX's visible
-// normals), reflected.
-vec3 lobe_sample(Material m, vec3 n, vec3 wo, vec2 u) {
+// normals), reflected; a .brdf file's sampleBRDF (t its X).
+vec3 lobe_sample(Material m, vec3 n, vec3 t, vec3 wo, vec2 u) {
+#ifdef ANALYTIC_HAS_SAMPLER
+    if (brdf_id(m) == BRDF_ANALYTIC) {
+        return normalize(analytic_sample(m.analytic, n, t, wo, u));
+    }
+#endif
     if (brdf_id(m) == BRDF_PHONG) {
         return cosine_power_sample(mirror(n, wo), m.shininess, u);
     }
@@ -129,8 +145,14 @@ vec3 lobe_sample(Material m, vec3 n, vec3 wo, vec2 u) {
     return mirror(h, wo);
 }
 
-// The density of lobe_sample drawing wi (a half vector's density over 4 (wo . h), the reflection's Jacobian).
-float lobe_pdf(Material m, vec3 n, vec3 wi, vec3 wo) {
+// The density of lobe_sample drawing wi (a half vector's density over 4 (wo . h), the reflection's
+// Jacobian); a .brdf file's pdfBRDF as it gives it.
+float lobe_pdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
+#ifdef ANALYTIC_HAS_SAMPLER
+    if (brdf_id(m) == BRDF_ANALYTIC) {
+        return analytic_pdf(m.analytic, n, t, wi, wo);
+    }
+#endif
     if (brdf_id(m) == BRDF_PHONG) {
         return cosine_power_pdf(mirror(n, wo), m.shininess, wi);
     }
@@ -153,10 +175,14 @@ float reflectance_luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)
 
 // How often the material's own sampler draws from its lobe rather than the cosine: in proportion to the
 // lobe's reflectance beside the diffuse one's (ks against kd for the course's plastics, the metal's share of
-// f0 against the rest's kd for Cook-Torrance), as renderers share a layered material's samples.
+// f0 against the rest's kd for Cook-Torrance), as renderers share a layered material's samples; always for a
+// .brdf file's sampler, which is the whole of its own.
 float lobe_share(Material m) {
-    if (!has_lobe(m)) {
+    if (!has_sampler(m)) {
         return 0.0;
+    }
+    if (brdf_id(m) == BRDF_ANALYTIC) {
+        return 1.0;
     }
     float lobe = brdf_id(m) == BRDF_COOK_TORRANCE ? m.metalness * reflectance_luminance(m.f0.rgb)
                                                  : reflectance_luminance(m.ks.rgb);
@@ -171,19 +197,23 @@ float lobe_share(Material m) {
 vec3 material_sample(Material m, vec3 n, vec3 t, vec3 wo, vec2 u) {
     float share = lobe_share(m);
     if (u.x < share) {
-        return lobe_sample(m, n, wo, vec2(u.x / share, u.y));
+        return lobe_sample(m, n, t, wo, vec2(u.x / share, u.y));
     }
     return cosine_sample(n, vec2((u.x - share) / (1.0 - share), u.y));
 }
 
-// The density per solid angle of material_sample drawing wi: zero below the surface, where it draws nothing.
+// The density per solid angle of material_sample drawing wi: zero below the surface, where the built-in
+// samplers draw nothing; a .brdf file's pdfBRDF there as it gives it, for the test to hold it to zero.
 float material_pdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
+    if (brdf_id(m) == BRDF_ANALYTIC) {
+        return has_sampler(m) ? lobe_pdf(m, n, t, wi, wo) : cosine_pdf(n, wi);
+    }
     if (dot(n, wi) <= 0.0) {
         return 0.0;
     }
     float share = lobe_share(m);
     float pdf = (1.0 - share) * cosine_pdf(n, wi);
-    return share > 0.0 ? pdf + share * lobe_pdf(m, n, wi, wo) : pdf;
+    return share > 0.0 ? pdf + share * lobe_pdf(m, n, t, wi, wo) : pdf;
 }
 
 #endif

@@ -113,19 +113,55 @@ fn significant<'a>(all: &[Token<'a>]) -> Vec<(usize, usize, Token<'a>)> {
     out
 }
 
-/// The expected signature, as messages quote it.
-const SIGNATURE: &str = "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)";
+/// A function vk-render calls in a file: its name, its return and argument types, and how messages quote it.
+struct Signature {
+    name: &'static str,
+    returns: &'static str,
+    arguments: [&'static str; 5],
+    quoted: &'static str,
+    /// The section that must define it.
+    section: &'static str,
+}
 
-/// Finds the file's global declarations and checks that it defines `vec3 BRDF(vec3, vec3, vec3, vec3, vec3)`.
-/// `lines[k]` is the file's line number of the shader's line k.
+/// The model itself.
+const BRDF: Signature = Signature {
+    name: "BRDF",
+    returns: "vec3",
+    arguments: ["vec3"; 5],
+    quoted: "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)",
+    section: "shader",
+};
+
+/// The isFunc section's sampler: a direction towards the light drawn for the view V from the uniform u.
+const SAMPLE: Signature = Signature {
+    name: "sampleBRDF",
+    returns: "vec3",
+    arguments: ["vec3", "vec3", "vec3", "vec3", "vec2"],
+    quoted: "vec3 sampleBRDF(vec3 V, vec3 N, vec3 X, vec3 Y, vec2 u)",
+    section: "isFunc",
+};
+
+/// The isFunc section's density: the sampler's, per solid angle, of drawing L for the view V.
+const PDF: Signature = Signature {
+    name: "pdfBRDF",
+    returns: "float",
+    arguments: ["vec3"; 5],
+    quoted: "float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)",
+    section: "isFunc",
+};
+
+/// Finds the file's global declarations and checks that it defines each of `required` (and anything of
+/// [`BRDF`], [`SAMPLE`] or [`PDF`]'s names with their types). `lines[k]` is the file's line number of the text's
+/// line k.
 fn declarations<'a>(
     significant: &[(usize, usize, Token<'a>)],
     lines: &[usize],
+    required: &[&Signature],
 ) -> Result<Declarations<'a>, ParseError> {
     let file_line = |line: usize| lines.get(line).copied();
     let mut found = Declarations::default();
     let mut depth = 0usize;
-    let mut brdf_defined = false;
+    let mut defined: HashSet<&str> = HashSet::new();
     for (k, &(_, line, token)) in significant.iter().enumerate() {
         match token {
             Token::Other("{") => depth += 1,
@@ -144,29 +180,31 @@ fn declarations<'a>(
                 if is_builtin_function(name) {
                     found.redefined.insert(name);
                 }
-                if name == "BRDF" {
-                    let (arguments, end) = argument_types(significant, k + 1);
-                    let defines = matches!(significant.get(end + 1), Some((_, _, Token::Other("{"))));
-                    let returns = significant[k - 1].2.text();
-                    if returns != "vec3" || arguments.len() != 5 || arguments.iter().any(|a| a != "vec3") {
-                        return Err(ParseError {
-                            line: file_line(line),
-                            message: format!(
-                                "the shader defines `{returns} BRDF({})`: vk-render calls `{SIGNATURE}`",
-                                arguments.join(", ")
-                            ),
-                        });
-                    }
-                    brdf_defined |= defines;
+                let Some(signature) = [&BRDF, &SAMPLE, &PDF].into_iter().find(|s| s.name == name) else { continue };
+                let (arguments, end) = argument_types(significant, k + 1);
+                let returns = significant[k - 1].2.text();
+                if returns != signature.returns || arguments != signature.arguments {
+                    return Err(ParseError {
+                        line: file_line(line),
+                        message: format!(
+                            "the {} section defines `{returns} {name}({})`: vk-render calls `{}`",
+                            signature.section,
+                            arguments.join(", "),
+                            signature.quoted
+                        ),
+                    });
+                }
+                if matches!(significant.get(end + 1), Some((_, _, Token::Other("{")))) {
+                    defined.insert(signature.name);
                 }
             }
             _ => {}
         }
     }
-    if !brdf_defined {
+    if let Some(missing) = required.iter().find(|s| !defined.contains(s.name)) {
         return Err(ParseError {
             line: None,
-            message: format!("the shader section defines no function `{SIGNATURE}`"),
+            message: format!("the {} section defines no function `{}`", missing.section, missing.quoted),
         });
     }
     Ok(found)
@@ -256,17 +294,27 @@ fn renamed(text: &str, declarations: &Declarations) -> String {
 }
 
 /// The GLSL of one model: `brdf/analytic.glsl` as the shaders include it (brdf.glsl, under ANALYTIC_BRDF):
-/// the parameters as globals, the file's shader line for line at its own lines, and
-/// `analytic_brdf(first, n, t, wi, wo)`, which sets the parameters from `analytic_parameter(first + k)` (of the
-/// values common/analytic.glsl declares) and calls the file's BRDF with X = t, Y = n x t.
+/// the parameters as globals, the file's shader then its isFunc section (`sampler`, the model's importance
+/// sampler, empty when it has none) line for line at their own lines, `analytic_brdf(first, n, t, wi, wo)`,
+/// which sets the parameters from `analytic_parameter(first + k)` (of the values common/analytic.glsl
+/// declares) and calls the file's BRDF with X = t, Y = n x t; and with a sampler, ANALYTIC_HAS_SAMPLER
+/// defined, `analytic_sample(first, n, t, wo, u)` and `analytic_pdf(first, n, t, wi, wo)` likewise.
 ///
 /// # Errors
-/// A [`ParseError`] when the shader defines no `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`.
-pub(super) fn wrap(parameters: &[Parameter], shader: &[(usize, String)]) -> Result<String, ParseError> {
-    let text: String = shader.iter().map(|(_, line)| line.as_str()).collect::<Vec<_>>().join("\n");
-    let lines: Vec<usize> = shader.iter().map(|(number, _)| *number).collect();
+/// A [`ParseError`] when the shader defines no `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`, or the isFunc
+/// section no `vec3 sampleBRDF(vec3 V, vec3 N, vec3 X, vec3 Y, vec2 u)` and `float pdfBRDF(vec3 L, vec3 V, vec3 N,
+/// vec3 X, vec3 Y)`, or one of them has other types.
+pub(super) fn wrap(
+    parameters: &[Parameter],
+    shader: &[(usize, String)],
+    sampler: &[(usize, String)],
+) -> Result<String, ParseError> {
+    let sections = || shader.iter().chain(sampler);
+    let text: String = sections().map(|(_, line)| line.as_str()).collect::<Vec<_>>().join("\n");
+    let lines: Vec<usize> = sections().map(|(number, _)| *number).collect();
     let all = tokens(&text);
-    let declarations = declarations(&significant(&all), &lines)?;
+    let required: &[&Signature] = if sampler.is_empty() { &[&BRDF] } else { &[&BRDF, &SAMPLE, &PDF] };
+    let declarations = declarations(&significant(&all), &lines, required)?;
     let renamed = renamed(&text, &declarations);
     let mut glsl = String::from(
         "// The analytic BRDF of one .brdf file, made by vk-render (src/brdf/analytic/glsl.rs): its parameters, then \
@@ -290,9 +338,7 @@ pub(super) fn wrap(parameters: &[Parameter], shader: &[(usize, String)]) -> Resu
         glsl.push('\n');
         expected = Some(number + 1);
     }
-    glsl.push_str(
-        "#line 1 \"brdf/analytic.glsl\"\nvec3 analytic_brdf(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {\n",
-    );
+    glsl.push_str("#line 1 \"brdf/analytic.glsl\"\nvoid analytic_set_parameters(uint first) {\n");
     let mut offset = 0;
     for parameter in parameters {
         let value = |k: usize| format!("analytic_parameter(first + {}u)", offset + k);
@@ -306,7 +352,19 @@ pub(super) fn wrap(parameters: &[Parameter], shader: &[(usize, String)]) -> Resu
         }
         offset += parameter.kind.floats();
     }
-    glsl.push_str(&format!("    return {PREFIX}BRDF(wi, wo, n, t, cross(n, t));\n}}\n#endif\n"));
+    glsl.push_str(&format!(
+        "}}\nvec3 analytic_brdf(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {{\n    \
+         analytic_set_parameters(first);\n    return {PREFIX}BRDF(wi, wo, n, t, cross(n, t));\n}}\n"
+    ));
+    if !sampler.is_empty() {
+        glsl.push_str(&format!(
+            "#define ANALYTIC_HAS_SAMPLER\nvec3 analytic_sample(uint first, vec3 n, vec3 t, vec3 wo, vec2 u) {{\n    \
+             analytic_set_parameters(first);\n    return {PREFIX}sampleBRDF(wo, n, t, cross(n, t), u);\n}}\n\
+             float analytic_pdf(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {{\n    \
+             analytic_set_parameters(first);\n    return {PREFIX}pdfBRDF(wi, wo, n, t, cross(n, t));\n}}\n"
+        ));
+    }
+    glsl.push_str("#endif\n");
     Ok(glsl)
 }
 
@@ -357,16 +415,16 @@ mod tests {
     fn rename(text: &str) -> String {
         let all = tokens(text);
         let lines: Vec<usize> = (1..=text.lines().count()).collect();
-        let declarations = declarations(&significant(&all), &lines).unwrap();
+        let declarations = declarations(&significant(&all), &lines, &[&BRDF]).unwrap();
         renamed(text, &declarations)
     }
 
-    const BRDF: &str = "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(1.0); }";
+    const BRDF_TEXT: &str = "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return vec3(1.0); }";
 
     #[test]
     fn the_files_names_are_prefixed_and_glsls_are_kept() {
         let text = format!(
-            "const float PI = 3.14159265;\nfloat sqr(float x) {{ return x*x; }}\n{BRDF}\nfloat G(vec3 h) {{ return \
+            "const float PI = 3.14159265;\nfloat sqr(float x) {{ return x*x; }}\n{BRDF_TEXT}\nfloat G(vec3 h) {{ return \
              pow(max(0, dot(h.xyz, h)), 2e-3) * h.x + .5e+2 + 1.0f; }}"
         );
         let renamed = rename(&text);
@@ -385,21 +443,21 @@ mod tests {
     #[test]
     fn a_redefined_builtin_is_prefixed_calls_and_all() {
         let text = format!(
-            "vec3 reflect(vec3 I, vec3 N)\n{{\n    return 2*dot(I,N)*N - I;\n}}\n{BRDF}\nvec3 r(vec3 a) {{ return \
+            "vec3 reflect(vec3 I, vec3 N)\n{{\n    return 2*dot(I,N)*N - I;\n}}\n{BRDF_TEXT}\nvec3 r(vec3 a) {{ return \
              reflect(a, a) + refract(a, a, 1.0); }}"
         );
         let renamed = rename(&text);
         assert!(renamed.starts_with("vec3 usr_reflect(vec3 usr_I, vec3 usr_N)"), "{renamed}");
         assert!(renamed.contains("return usr_reflect(usr_a, usr_a) + refract(usr_a, usr_a, 1.0);"), "{renamed}");
         // A call at global scope (an initializer) is not a definition.
-        let initializer = rename(&format!("const float s = sqrt(2.0);\n{BRDF}"));
+        let initializer = rename(&format!("const float s = sqrt(2.0);\n{BRDF_TEXT}"));
         assert!(initializer.contains("const float usr_s = sqrt(2.0);"), "{initializer}");
     }
 
     #[test]
     fn struct_members_keep_their_names_and_struct_types_are_prefixed() {
         let text =
-            format!("struct Lobe {{ float n; vec3 c; }};\nLobe make() {{ Lobe l; l.n = 1.0; return l; }}\n{BRDF}");
+            format!("struct Lobe {{ float n; vec3 c; }};\nLobe make() {{ Lobe l; l.n = 1.0; return l; }}\n{BRDF_TEXT}");
         let renamed = rename(&text);
         assert!(renamed.starts_with("struct usr_Lobe { float n; vec3 c; };"), "{renamed}");
         assert!(renamed.contains("usr_Lobe usr_make() { usr_Lobe usr_l; usr_l.n = 1.0; return usr_l; }"), "{renamed}");
@@ -407,7 +465,7 @@ mod tests {
 
     #[test]
     fn comments_are_kept_as_written_and_lines_stay_lines() {
-        let text = format!("/* PI\n sqr */ float a; // G\n{BRDF}");
+        let text = format!("/* PI\n sqr */ float a; // G\n{BRDF_TEXT}");
         let renamed = rename(&text);
         assert!(renamed.starts_with("/* PI\n sqr */ float usr_a; // G\n"), "{renamed}");
     }
@@ -416,9 +474,9 @@ mod tests {
     fn the_brdf_function_must_have_vk_renders_signature() {
         let check = |text: &str| {
             let all = tokens(text);
-            declarations(&significant(&all), &[7, 8, 9]).err()
+            declarations(&significant(&all), &[7, 8, 9], &[&BRDF]).err()
         };
-        assert!(check(BRDF).is_none());
+        assert!(check(BRDF_TEXT).is_none());
         assert!(check("vec3 BRDF(in vec3 L, const vec3 V, vec3 N, vec3 X, highp vec3 Y)\n{ return L; }").is_none());
         let float = check("float BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return 1.0; }").unwrap();
         assert_eq!(float.line, Some(7));
@@ -431,6 +489,35 @@ mod tests {
         assert!(none.message.contains("defines no function `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`"));
         let prototype = check("vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y);").unwrap();
         assert!(prototype.message.contains("defines no function"), "{}", prototype.message);
+    }
+
+    #[test]
+    fn a_sampler_needs_both_functions_with_vk_renders_signatures() {
+        let sample = "vec3 sampleBRDF(vec3 V, vec3 N, vec3 X, vec3 Y, vec2 u) { return N; }";
+        let pdf = "float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { return 1.0; }";
+        let check = |text: &str| {
+            let all = tokens(text);
+            let lines: Vec<usize> = (20..40).collect();
+            declarations(&significant(&all), &lines, &[&BRDF, &SAMPLE, &PDF]).err()
+        };
+        assert!(check(&format!("{BRDF_TEXT}\n{sample}\n{pdf}")).is_none());
+        let missing = check(&format!("{BRDF_TEXT}\n{sample}")).unwrap();
+        assert_eq!(missing.line, None);
+        assert_eq!(
+            missing.message,
+            "the isFunc section defines no function `float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`"
+        );
+        let mistyped = check(&format!("{BRDF_TEXT}\n{pdf}\nvec3 sampleBRDF(vec3 V, vec3 N, vec2 u) {{ return N; }}")).unwrap();
+        assert_eq!(mistyped.line, Some(22));
+        assert!(mistyped.message.starts_with("the isFunc section defines `vec3 sampleBRDF(vec3, vec3, vec2)`"));
+        // The wrapper calls them with the frame and sets the parameters first; a file without a sampler
+        // has neither.
+        let shader = [(5, BRDF_TEXT.to_string())];
+        let wrapped = wrap(&[], &shader, &[(9, sample.to_string()), (10, pdf.to_string())]).unwrap();
+        assert!(wrapped.contains("#define ANALYTIC_HAS_SAMPLER"), "{wrapped}");
+        assert!(wrapped.contains("return usr_sampleBRDF(wo, n, t, cross(n, t), u);"), "{wrapped}");
+        assert!(wrapped.contains("return usr_pdfBRDF(wi, wo, n, t, cross(n, t));"), "{wrapped}");
+        assert!(!wrap(&[], &shader, &[]).unwrap().contains("ANALYTIC_HAS_SAMPLER"));
     }
 
     #[test]

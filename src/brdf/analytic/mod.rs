@@ -115,8 +115,8 @@ pub struct AnalyticModel {
     pub path: PathBuf,
     /// The parameters it declares, in the file's order.
     pub parameters: Vec<Parameter>,
-    /// What loads but will not do what the file may mean (a `#define` dropped, an `isFunc` unused), one line
-    /// each naming the file and the line.
+    /// What loads but will not do what the file may mean (a `#define` dropped, a section vk-render does not
+    /// read), one line each naming the file and the line.
     pub warnings: Vec<String>,
     /// The file's text.
     source: String,
@@ -124,6 +124,8 @@ pub struct AnalyticModel {
     glsl: String,
     /// A hash of `glsl`: what compiled shaders and pipelines are kept by.
     key: u64,
+    /// Whether the file has an importance sampler (its isFunc section).
+    has_sampler: bool,
 }
 
 impl fmt::Debug for AnalyticModel {
@@ -163,12 +165,21 @@ impl AnalyticModel {
             None => format!("{}: {}", path.display(), error.message),
         };
         let file = parse::parse(&source).map_err(at)?;
-        let glsl = glsl::wrap(&file.parameters, &file.shader).map_err(at)?;
+        let glsl = glsl::wrap(&file.parameters, &file.shader, &file.sampler).map_err(at)?;
         compile_alone(&glsl).map_err(at)?;
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         glsl.hash(&mut hasher);
         let warnings = file.warnings.iter().map(|w| format!("{}: {w}", path.display())).collect();
-        Ok(Self { path: path.to_path_buf(), parameters: file.parameters, warnings, source, glsl, key: hasher.finish() })
+        let has_sampler = !file.sampler.is_empty();
+        Ok(Self {
+            path: path.to_path_buf(),
+            parameters: file.parameters,
+            warnings,
+            source,
+            glsl,
+            key: hasher.finish(),
+            has_sampler,
+        })
     }
 
     /// `brdf/analytic.glsl` for the shaders that evaluate this model.
@@ -180,6 +191,12 @@ impl AnalyticModel {
     /// to the same shaders.
     pub fn key(&self) -> u64 {
         self.key
+    }
+
+    /// Whether the file has an importance sampler of its own (`sampleBRDF` and `pdfBRDF` in its isFunc
+    /// section), which the exact environment mode draws from and `vk-render sampling` tests.
+    pub fn has_sampler(&self) -> bool {
+        self.has_sampler
     }
 
     /// The file's text.
@@ -471,7 +488,7 @@ mod tests {
             WARD_LIKE.replace("vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)", "vec3 BRDF(vec3 L, vec3 V)");
         assert_eq!(
             model(&signature).unwrap_err(),
-            "brdfs/m.brdf:9: the shader defines `vec3 BRDF(vec3, vec3)`: vk-render calls `vec3 BRDF(vec3 L, vec3 V, vec3 \
+            "brdfs/m.brdf:9: the shader section defines `vec3 BRDF(vec3, vec3)`: vk-render calls `vec3 BRDF(vec3 L, vec3 V, vec3 \
              N, vec3 X, vec3 Y)`"
         );
     }

@@ -16,6 +16,8 @@ pub(super) struct BrdfFile {
     pub parameters: Vec<Parameter>,
     /// The shader section's lines as written, each with its line number in the file (from 1).
     pub shader: Vec<(usize, String)>,
+    /// The isFunc section's lines (the model's importance sampler), likewise; empty when it has none.
+    pub sampler: Vec<(usize, String)>,
     /// Lines that load but will not do what the file may mean, each naming its line.
     pub warnings: Vec<String>,
 }
@@ -51,9 +53,9 @@ pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
             ),
         ));
     }
-    let mut file = BrdfFile { parameters: Vec::new(), shader: Vec::new(), warnings: Vec::new() };
+    let mut file = BrdfFile { parameters: Vec::new(), shader: Vec::new(), sampler: Vec::new(), warnings: Vec::new() };
     let mut section: Option<(usize, String)> = None;
-    let mut shader_sections = 0;
+    let (mut shader_sections, mut sampler_sections) = (0, 0);
     for (number, line) in lines {
         let trimmed = line.trim();
         if skipped(trimmed) {
@@ -83,10 +85,7 @@ pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
                 match name {
                     "parameters" => {}
                     "shader" => shader_sections += 1,
-                    "isFunc" => file.warnings.push(format!(
-                        "line {number}: the isFunc section (an importance sampler) is not used: the exact \
-                         environment mode samples this BRDF by the cosine"
-                    )),
+                    "isFunc" => sampler_sections += 1,
                     other => file.warnings.push(format!(
                         "line {number}: the section `{}` is not one vk-render reads (parameters, shader, isFunc): \
                          it is skipped",
@@ -123,6 +122,7 @@ pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
                     file.parameters.push(parameter);
                 }
                 Some("shader") => file.shader.push((number, line.to_string())),
+                Some("isFunc") => file.sampler.push((number, line.to_string())),
                 Some(_) => {}
                 None => {
                     return Err(at(
@@ -138,6 +138,9 @@ pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
     }
     if let Some((begun, open)) = section {
         return Err(at(begun, format!("the section `{open}` begun here is never ended (`::end {open}`)")));
+    }
+    if sampler_sections > 1 {
+        return Err(ParseError { line: None, message: "the file has more than one isFunc section".into() });
     }
     match shader_sections {
         0 => Err(ParseError { line: None, message: "the file has no `::begin shader` section".into() }),
@@ -257,15 +260,17 @@ mod tests {
     }
 
     #[test]
-    fn an_isfunc_section_and_an_unknown_section_are_skipped_with_a_warning() {
+    fn an_isfunc_section_is_the_sampler_and_an_unknown_section_is_skipped_with_a_warning() {
         let text = format!(
             "analytic\n::begin isFunc\nvec3 sampleBRDF() {{}}\n::end isFunc\n::begin notes\nhi\n::end notes\n{SHADER}"
         );
         let file = parse(&text).unwrap();
         assert_eq!(file.shader.len(), 1);
-        assert_eq!(file.warnings.len(), 2, "{:?}", file.warnings);
-        assert!(file.warnings[0].starts_with("line 2: the isFunc section"));
-        assert!(file.warnings[1].starts_with("line 5: the section `notes`"));
+        assert_eq!(file.sampler, vec![(3, "vec3 sampleBRDF() {}".into())]);
+        assert_eq!(file.warnings.len(), 1, "{:?}", file.warnings);
+        assert!(file.warnings[0].starts_with("line 5: the section `notes`"));
+        let twice = format!("analytic\n::begin isFunc\n::end isFunc\n::begin isFunc\n::end isFunc\n{SHADER}");
+        assert_eq!(parse(&twice).unwrap_err().message, "the file has more than one isFunc section");
     }
 
     #[test]
