@@ -81,9 +81,9 @@ fn shipped(file: &str, params: &[(&str, ParameterValue)]) -> Brdf {
 
 #[test]
 fn every_shipped_sampler_passes_from_sharp_to_rough() {
-    // GGX's visible normals (Walter et al.'s model) and Ward's half vectors (Walter 2005), sharp to rough, over
-    // a diffuse base, isotropic and (Ward) anisotropic both ways, at every view and, where the model is
-    // anisotropic, every azimuth.
+    // GGX's visible normals (Walter et al.'s model), Ward's half vectors (Walter 2005) and Ashikhmin and
+    // Shirley's, sharp to rough, over a diffuse base, isotropic and anisotropic both ways, at every view and,
+    // where the model is anisotropic, every azimuth.
     let float = ParameterValue::Float;
     let grey = |v: f32| ParameterValue::Color(Vec3::splat(v));
     let mut brdfs = Vec::new();
@@ -93,6 +93,10 @@ fn every_shipped_sampler_passes_from_sharp_to_rough() {
     for (x, y) in [(0.01, 0.01), (0.2, 0.2), (1.0, 1.0), (0.05, 0.4)] {
         let params = [("alpha_x", float(x)), ("alpha_y", float(y)), ("rho_d", grey(0.3)), ("rho_s", grey(0.1))];
         brdfs.push(shipped("ward.brdf", &params));
+    }
+    for (nu, nv) in [(1.0, 1.0), (100.0, 100.0), (20.0, 800.0), (1e4, 1e4)] {
+        let params = [("nu", float(nu)), ("nv", float(nv)), ("Rd", grey(0.3)), ("Rs", grey(0.3))];
+        brdfs.push(shipped("ashikhmin_shirley.brdf", &params));
     }
     let mut renderer = renderer();
     for brdf in &brdfs {
