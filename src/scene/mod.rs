@@ -442,16 +442,25 @@ impl Scene {
                 named.join(", ")
             ));
         }
-        if let (Some(mode), Some((i, name))) = (self.environment_light(), analytic.first()) {
-            let how = match mode {
-                EnvironmentMode::Exact => {
-                    "the exact mode draws its directions by the cosine and the environment alone (no importance \
-                     sampler of the file is used), which converges more slowly than a built-in model's lobe"
-                }
-                EnvironmentMode::Fast => {
-                    "the fast mode lights it as a diffuse surface of its directional albedo: its highlights are lost"
-                }
-            };
+        // A file with its own sampler (an isFunc section) is drawn from it in the exact mode.
+        let unsampled = self.objects.iter().enumerate().find_map(|(i, o)| match &o.brdf {
+            Brdf::Analytic(material) if !material.model().has_sampler() => Some((i, material.model().name())),
+            _ => None,
+        });
+        let warned = match self.environment_light() {
+            Some(EnvironmentMode::Exact) => unsampled.map(|object| {
+                (
+                    object,
+                    "the exact mode draws its directions by the cosine and the environment alone (the file has no \
+                     isFunc section, its importance sampler), which converges more slowly than a model's lobe",
+                )
+            }),
+            Some(EnvironmentMode::Fast) => analytic.first().cloned().map(|object| {
+                (object, "the fast mode lights it as a diffuse surface of its directional albedo: its highlights are lost")
+            }),
+            None => None,
+        };
+        if let Some(((i, name), how)) = warned {
             warnings.push(format!("{file}: object.{i} ({name}) under the environment: {how}"));
         }
         if !view.is_radiance() && view != View::Normal && self.lights.len() > 1 {
