@@ -14,7 +14,7 @@ CARGO ?= cargo
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test test-python wheel test-current bench bench-fit bench-serve bench-peer bench-python bless clean
+.PHONY: all setup setup-test build render test test-python wheel test-current bench bench-sampling bench-fit bench-serve bench-peer bench-python bless clean
 
 all: render
 
@@ -69,6 +69,11 @@ test-current: wheel
 ## bench: the renderer's benchmark (median of 9 runs each); `scripts/stage-current.sh bench` on Debian 13
 bench: setup
 	$(CARGO) bench --locked --bench render
+
+## bench-sampling: exact images of .brdf spheres under the sky with the files' own samplers and without, side
+## by side in one run: the passes and the time to one level (docs/performance.md)
+bench-sampling: setup
+	$(CARGO) bench --locked --bench sampling
 
 ## bench-fit: a four-parameter .brdf fit against the course's Cook-Torrance fit of one measured material, in
 ## one run (mark: at most twice as long)
