@@ -262,6 +262,114 @@ impl PyRenderer {
         Ok((numpy::PyArray1::from_vec(py, flat).reshape([albedos.len(), 3])?, bound))
     }
 
+    /// `n` draws of a material's own importance sampler (the exact mode's, `material_sample` of the GLSL, or
+    /// a .brdf file's sampleBRDF) seen from the unit direction `wo` (frame: normal +z, tangent X +x), from the
+    /// random stream `seed`. Returns (directions as float32 (n, 3), their densities per solid angle as float32
+    /// (n,)); a direction below the surface (z <= 0) is no sample, its density 0.
+    #[pyo3(signature = (material, wo, n, *, seed = 1))]
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        material: &Bound<'py, PyAny>,
+        wo: [f32; 3],
+        n: usize,
+        seed: u32,
+    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, numpy::PyArray1<f32>>)> {
+        let brdf = self::material(py, material)?;
+        let wo = Vec3::from(wo);
+        if !(wo.is_finite() && (wo.length() - 1.0).abs() < 1e-3 && wo.z > 0.0) {
+            return Err(PyValueError::new_err(format!("wo = {wo}: a unit direction above the surface (z > 0)")));
+        }
+        if n > u32::MAX as usize {
+            return Err(PyValueError::new_err(format!("n = {n}: at most {}", u32::MAX)));
+        }
+        let samples = if n == 0 { Vec::new() } else { self.with(py, |r| r.draw_brdf_samples(&brdf, wo, (0, n), seed))? };
+        let directions: Vec<Vec3> = samples.iter().map(|s| s.wi).collect();
+        let densities: Vec<f32> = samples.iter().map(|s| s.pdf).collect();
+        Ok((rows_of_three(py, &directions)?, numpy::PyArray1::from_vec(py, densities)))
+    }
+
+    /// Tests a material's own importance sampler as `vk-render sampling` does (see its guide page): at each view
+    /// (θo, φo in degrees; default θo 0, 20, 40, 60, 75 and 85, φo 0, and 0, 45, 90 for an anisotropic
+    /// model), Pearson's χ², the density's integral and support, the estimator against the albedo, energy,
+    /// and the BRDF's reciprocity. Returns a dict: "passed", "level_each", "verdicts" (a list of dicts: test,
+    /// theta_o, phi_o (None for reciprocity), passed, detail) and "views" (a list of dicts: theta_o, phi_o,
+    /// chi_square, degrees_of_freedom, p_value, density_integral, no_sample, estimate, standard_error,
+    /// albedo, and "histogram" and "expected", the samples and the counts the density expects on the
+    /// upper hemisphere's 40 x 160 cells of the equal-area grid, cos θ by rows from 0, φ by columns from -180°).
+    #[pyo3(signature = (material, *, theta_o = None, phi_o = None, samples = 1_000_000, seed = 1, level = 0.01))]
+    #[allow(clippy::too_many_arguments)]
+    fn sampling_test<'py>(
+        &self,
+        py: Python<'py>,
+        material: &Bound<'py, PyAny>,
+        theta_o: Option<Vec<f64>>,
+        phi_o: Option<Vec<f64>>,
+        samples: u64,
+        seed: u32,
+        level: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        use vk_render::analysis::sampling::{self as sampling, SamplingOptions, GRID};
+        let brdf = self::material(py, material)?;
+        let theta_o = theta_o.unwrap_or_else(|| sampling::DEFAULT_THETA_O.to_vec());
+        if let Some(bad) = theta_o.iter().find(|t| !(t.is_finite() && (0.0..90.0).contains(*t))) {
+            return Err(PyValueError::new_err(format!("theta_o: {bad} is not in [0, 90)")));
+        }
+        if !(1000..=u64::from(u32::MAX)).contains(&samples) {
+            return Err(PyValueError::new_err(format!("samples = {samples}: from 1000 to {}", u32::MAX)));
+        }
+        if !(level > 0.0 && level < 1.0) {
+            return Err(PyValueError::new_err(format!("level = {level}: a probability between 0 and 1")));
+        }
+        let report = self.with(py, |r| {
+            let phi_o = match phi_o {
+                Some(phi_o) => phi_o,
+                None if sampling::is_isotropic(r, &brdf)? => vec![0.0],
+                None => sampling::DEFAULT_PHI_O.to_vec(),
+            };
+            let views = theta_o.iter().flat_map(|&t| phi_o.iter().map(move |&p| (t, p))).collect();
+            sampling::test_sampler(r, &brdf, &SamplingOptions { views, samples, seed, level }, || ())
+        })?;
+        let out = PyDict::new(py);
+        out.set_item("passed", report.passed())?;
+        out.set_item("level_each", report.level_each)?;
+        let verdicts = PyList::empty(py);
+        for verdict in &report.verdicts {
+            let entry = PyDict::new(py);
+            entry.set_item("test", verdict.test)?;
+            entry.set_item("theta_o", verdict.view.map(|v| v.0))?;
+            entry.set_item("phi_o", verdict.view.map(|v| v.1))?;
+            entry.set_item("passed", verdict.passed)?;
+            entry.set_item("detail", &verdict.detail)?;
+            verdicts.append(entry)?;
+        }
+        out.set_item("verdicts", verdicts)?;
+        let views = PyList::empty(py);
+        let (rows, columns) = (GRID.cos_bins / 2, GRID.phi_bins);
+        let upper = GRID.cells() / 2;
+        for view in &report.views {
+            let entry = PyDict::new(py);
+            entry.set_item("theta_o", view.theta_o)?;
+            entry.set_item("phi_o", view.phi_o)?;
+            entry.set_item("chi_square", view.chi_square.statistic)?;
+            entry.set_item("degrees_of_freedom", view.chi_square.degrees_of_freedom)?;
+            entry.set_item("p_value", view.chi_square.p_value)?;
+            entry.set_item("density_integral", view.density_integral().0)?;
+            entry.set_item("no_sample", view.no_sample)?;
+            entry.set_item("estimate", view.estimate.to_vec())?;
+            entry.set_item("standard_error", view.standard_error.to_vec())?;
+            entry.set_item("albedo", view.albedo().to_vec())?;
+            let histogram: Vec<u64> = view.histogram[upper..].to_vec();
+            entry.set_item("histogram", numpy::PyArray1::from_vec(py, histogram).reshape([rows, columns])?)?;
+            let expected: Vec<f64> =
+                view.cells.probability[upper..].iter().map(|p| p.max(0.0) * view.samples as f64).collect();
+            entry.set_item("expected", numpy::PyArray1::from_vec(py, expected).reshape([rows, columns])?)?;
+            views.append(entry)?;
+        }
+        out.set_item("views", views)?;
+        Ok(out)
+    }
+
     /// Checks an image (a (height, width, 3) uint8 array, or a PNG or JPEG path) against a scene (one of the
     /// practical's images by name, a scene file, or a Scene) rendered at the image's size, as `vk-render
     /// check` does. Returns a dict: "matches", "verdict", "mistakes", "statistics", "regions",

@@ -33,6 +33,8 @@ __all__ = [
     "render",
     "brdf",
     "albedo",
+    "sample",
+    "sampling_test",
     "reference",
     "check",
     "sweep",
@@ -121,6 +123,40 @@ def brdf(material, wi, wo, *, renderer=None):
 def albedo(material, theta_o_degrees, *, renderer=None):
     """The directional albedo with the process-wide renderer (or `renderer`): see `Renderer.albedo`."""
     return (renderer or default_renderer()).albedo(material, theta_o_degrees)
+
+
+def sample(material, wo, n, *, seed=1, renderer=None):
+    """`n` draws of a material's own importance sampler (the exact mode's, or a .brdf file's sampleBRDF) seen
+    from the unit direction `wo` (normal +z, tangent X +x), from the random stream `seed`, with the
+    process-wide renderer (or `renderer`): (directions float32 (n, 3), densities per solid angle float32
+    (n,)). A direction below the surface is no sample, its density 0.
+
+        >>> directions, pdf = vk_render.sample({"brdf": "phong", "kd": 0.35, "ks": 0.15, "shininess": 16},
+        ...                                     [0.0, 0.0, 1.0], 100_000)
+    """
+    wo = np.asarray(wo, dtype=np.float64).reshape(-1)
+    if wo.shape != (3,):
+        raise ValueError(f"wo: expected one direction of 3 numbers, got shape {wo.shape}")
+    return (renderer or default_renderer()).sample(material, [float(v) for v in wo], int(n), seed=seed)
+
+
+def sampling_test(material, *, theta_o=None, phi_o=None, samples=1_000_000, seed=1, level=0.01, renderer=None):
+    """`vk-render sampling`'s tests of a material's own importance sampler, with the process-wide renderer
+    (or `renderer`): Pearson's chi-square per view, the density's integral and support, the estimator
+    f cos / pdf against the albedo, energy and reciprocity, at the level `level` for them all. A dict:
+    "passed", "level_each", "verdicts" (test, theta_o, phi_o, passed, detail) and "views" (per view: theta_o,
+    phi_o, chi_square, degrees_of_freedom, p_value, density_integral, no_sample, estimate, standard_error,
+    albedo, and the upper hemisphere's "histogram" and "expected" counts, (40, 160) arrays of the equal-area
+    grid: cos theta by rows from 0 up, phi by columns from -180 degrees).
+    """
+    return (renderer or default_renderer()).sampling_test(
+        material,
+        theta_o=None if theta_o is None else [float(t) for t in np.atleast_1d(theta_o)],
+        phi_o=None if phi_o is None else [float(p) for p in np.atleast_1d(phi_o)],
+        samples=int(samples),
+        seed=seed,
+        level=level,
+    )
 
 
 def reference(scene, *, set=None, width=None, height=None, samples=None, hdr=False):

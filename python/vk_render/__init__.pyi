@@ -36,6 +36,19 @@ def brdf(material: Material, wi: npt.ArrayLike, wo: npt.ArrayLike, *, renderer: 
 def albedo(
     material: Material, theta_o_degrees: npt.ArrayLike, *, renderer: Optional[Renderer] = None
 ) -> Tuple[npt.NDArray[np.float64], float]: ...
+def sample(
+    material: Material, wo: Sequence[float], n: int, *, seed: int = 1, renderer: Optional[Renderer] = None
+) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]: ...
+def sampling_test(
+    material: Material,
+    *,
+    theta_o: Optional[Sequence[float]] = None,
+    phi_o: Optional[Sequence[float]] = None,
+    samples: int = 1_000_000,
+    seed: int = 1,
+    level: float = 0.01,
+    renderer: Optional[Renderer] = None,
+) -> dict[str, Any]: ...
 def reference(
     scene: SceneLike,
     *,

@@ -105,6 +105,21 @@ class Renderer:
         """f_r(wi, wo) by the shaders' brdf_eval on the GPU, (N, 3); unit directions (N, 3), normal +z."""
     def albedo(self, material: Material, theta_o_degrees: npt.ArrayLike) -> Tuple[npt.NDArray[np.float64], float]:
         """Directional albedo (N, 3) at each theta_o in degrees, and the largest error bound reached."""
+    def sample(
+        self, material: Material, wo: Sequence[float], n: int, *, seed: int = 1
+    ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+        """n draws of the material's own sampler seen from wo: directions (n, 3) and densities (n,)."""
+    def sampling_test(
+        self,
+        material: Material,
+        *,
+        theta_o: Optional[Sequence[float]] = None,
+        phi_o: Optional[Sequence[float]] = None,
+        samples: int = 1_000_000,
+        seed: int = 1,
+        level: float = 0.01,
+    ) -> dict[str, Any]:
+        """`vk-render sampling`'s tests of the material's own sampler: passed, verdicts, views."""
     def check(
         self,
         image: Union[npt.NDArray[np.uint8], PathLike],
