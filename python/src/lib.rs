@@ -152,6 +152,9 @@ fn rows_of_three<'py>(py: Python<'py>, values: &[Vec3]) -> PyResult<Bound<'py, P
     numpy::PyArray1::from_vec(py, flat).reshape([values.len(), 3])
 }
 
+/// A sampler's draws as Python sees them: directions (n, 3) and densities (n,).
+type Draws<'py> = (Bound<'py, PyArray2<f32>>, Bound<'py, numpy::PyArray1<f32>>);
+
 #[pymethods]
 impl PyRenderer {
     #[new]
@@ -274,7 +277,7 @@ impl PyRenderer {
         wo: [f32; 3],
         n: usize,
         seed: u32,
-    ) -> PyResult<(Bound<'py, PyArray2<f32>>, Bound<'py, numpy::PyArray1<f32>>)> {
+    ) -> PyResult<Draws<'py>> {
         let brdf = self::material(py, material)?;
         let wo = Vec3::from(wo);
         if !(wo.is_finite() && (wo.length() - 1.0).abs() < 1e-3 && wo.z > 0.0) {
