@@ -81,8 +81,8 @@ fn shipped(file: &str, params: &[(&str, ParameterValue)]) -> Brdf {
 
 #[test]
 fn every_shipped_sampler_passes_from_sharp_to_rough() {
-    // GGX's visible normals (Walter et al.'s model), Ward's half vectors (Walter 2005) and Ashikhmin and
-    // Shirley's, sharp to rough, over a diffuse base, isotropic and anisotropic both ways, at every view and,
+    // GGX's visible normals (Walter et al.'s model), Ward's half vectors (Walter 2005), Ashikhmin and
+    // Shirley's and the Disney BRDF's lobes, sharp to rough, over a diffuse base, isotropic and anisotropic both ways, at every view and,
     // where the model is anisotropic, every azimuth.
     let float = ParameterValue::Float;
     let grey = |v: f32| ParameterValue::Color(Vec3::splat(v));
@@ -97,6 +97,19 @@ fn every_shipped_sampler_passes_from_sharp_to_rough() {
     for (nu, nv) in [(1.0, 1.0), (100.0, 100.0), (20.0, 800.0), (1e4, 1e4)] {
         let params = [("nu", float(nu)), ("nv", float(nv)), ("Rd", grey(0.3)), ("Rs", grey(0.3))];
         brdfs.push(shipped("ashikhmin_shirley.brdf", &params));
+    }
+    // The Disney BRDF by its lobes: its defaults, an anisotropic metal, a sharp clearcoat over a sharp lobe,
+    // the roughest metal.
+    let gold = ParameterValue::Color(Vec3::new(0.82, 0.67, 0.16));
+    for params in [
+        vec![],
+        vec![("anisotropic", float(0.9)), ("metallic", float(1.0)), ("roughness", float(0.35))],
+        vec![("clearcoat", float(1.0)), ("roughness", float(0.05))],
+        // Rough, as a metal: over its diffuse base the model reflects more than it receives at 85° (Burley's
+        // retro-reflection), which the energy test says of it.
+        vec![("roughness", float(1.0)), ("metallic", float(1.0))],
+    ] {
+        brdfs.push(shipped("disney.brdf", &[&[("baseColor", gold)], &params[..]].concat()));
     }
     let mut renderer = renderer();
     for brdf in &brdfs {
