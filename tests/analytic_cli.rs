@@ -114,7 +114,8 @@ fn every_malformed_file_is_one_line_naming_its_line() {
             "brdf.brdf: the isFunc section defines no function `float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`",
         ),
         (
-            sampler.replace("vec3 sampleBRDF(vec3 V, vec3 N, vec3 X, vec3 Y, vec2 u)", "vec3 sampleBRDF(vec3 V, vec2 u)"),
+            sampler
+                .replace("vec3 sampleBRDF(vec3 V, vec3 N, vec3 X, vec3 Y, vec2 u)", "vec3 sampleBRDF(vec3 V, vec2 u)"),
             "brdf.brdf:16: the isFunc section defines `vec3 sampleBRDF(vec3, vec2)`: vk-render calls `vec3 sampleBRDF(",
         ),
         (sampler.replace("    return N;", "    return N +;"), "brdf.brdf:18: GLSL: "),

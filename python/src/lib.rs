@@ -286,7 +286,8 @@ impl PyRenderer {
         if n > u32::MAX as usize {
             return Err(PyValueError::new_err(format!("n = {n}: at most {}", u32::MAX)));
         }
-        let samples = if n == 0 { Vec::new() } else { self.with(py, |r| r.draw_brdf_samples(&brdf, wo, (0, n), seed))? };
+        let samples =
+            if n == 0 { Vec::new() } else { self.with(py, |r| r.draw_brdf_samples(&brdf, wo, (0, n), seed))? };
         let directions: Vec<Vec3> = samples.iter().map(|s| s.wi).collect();
         let densities: Vec<f32> = samples.iter().map(|s| s.pdf).collect();
         Ok((rows_of_three(py, &directions)?, numpy::PyArray1::from_vec(py, densities)))

@@ -162,7 +162,12 @@ impl Shader {
     }
 
     /// The pipeline for `variant`, built on first use (an analytic model's shader compiled by `compiler`).
-    pub(super) fn pipeline(&mut self, device: &Arc<Device>, compiler: &ShaderCompiler, variant: &Variant) -> Result<&Pipeline> {
+    pub(super) fn pipeline(
+        &mut self,
+        device: &Arc<Device>,
+        compiler: &ShaderCompiler,
+        variant: &Variant,
+    ) -> Result<&Pipeline> {
         if !self.pipelines.contains_key(variant) {
             let (brdf, analytic) = variant;
             let module = match analytic {

@@ -6,8 +6,8 @@ use ash::vk;
 use glam::{Vec3, Vec4};
 
 use super::gpu_types::GpuMaterial;
-use super::probe::{dispatch, per_buffer, push_constant, variant, GpuAlbedoJob, ProbeContext, ProbePass};
 use super::probe::EVALUATIONS_PER_DISPATCH;
+use super::probe::{dispatch, per_buffer, push_constant, variant, GpuAlbedoJob, ProbeContext, ProbePass};
 use super::Renderer;
 use crate::brdf::Brdf;
 use crate::error::Result;
@@ -80,12 +80,17 @@ impl ProbePass {
         let mut densities = Vec::with_capacity(directions.len());
         for part in directions.chunks(per_dispatch) {
             let padded: Vec<Vec4> = part.iter().map(|d| d.extend(0.0)).collect();
-            let input =
-                self.device.create_buffer_with_data(&padded, vk::BufferUsageFlags::STORAGE_BUFFER, "sampler directions")?;
+            let input = self.device.create_buffer_with_data(
+                &padded,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                "sampler directions",
+            )?;
             let push = [push_constant(part.len())?, 0, 0, 0];
             let bytes = dispatch(&self.device, pipeline, &[&job, &input], context.data, 16, &push)?;
             densities.extend(
-                floats(&bytes).chunks_exact(4).map(|v| SamplerDensity { pdf: v[0], f_cos: Vec3::new(v[1], v[2], v[3]) }),
+                floats(&bytes)
+                    .chunks_exact(4)
+                    .map(|v| SamplerDensity { pdf: v[0], f_cos: Vec3::new(v[1], v[2], v[3]) }),
             );
         }
         Ok(densities)
@@ -127,7 +132,14 @@ impl Renderer {
     ///
     /// # Errors
     /// As [`Renderer::probe_brdfs`].
-    pub fn brdf_sampler_densities(&mut self, brdf: &Brdf, wo: Vec3, directions: &[Vec3]) -> Result<Vec<SamplerDensity>> {
-        self.with_probe(std::iter::once(brdf), |probe, context| probe.sampler_densities((brdf, wo), directions, context))
+    pub fn brdf_sampler_densities(
+        &mut self,
+        brdf: &Brdf,
+        wo: Vec3,
+        directions: &[Vec3],
+    ) -> Result<Vec<SamplerDensity>> {
+        self.with_probe(std::iter::once(brdf), |probe, context| {
+            probe.sampler_densities((brdf, wo), directions, context)
+        })
     }
 }

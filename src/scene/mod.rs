@@ -456,7 +456,10 @@ impl Scene {
                 )
             }),
             Some(EnvironmentMode::Fast) => analytic.first().cloned().map(|object| {
-                (object, "the fast mode lights it as a diffuse surface of its directional albedo: its highlights are lost")
+                (
+                    object,
+                    "the fast mode lights it as a diffuse surface of its directional albedo: its highlights are lost",
+                )
             }),
             None => None,
         };

@@ -328,7 +328,11 @@ fn worst_cells(histogram: &[u64], probability: &[f64], samples: u64) -> Vec<Cell
         .map(|(cell, (&observed, &p))| {
             let expected = p.max(0.0) * samples as f64;
             let weight = if expected < 1e-9 {
-                if observed > 0 { f64::INFINITY } else { 0.0 }
+                if observed > 0 {
+                    f64::INFINITY
+                } else {
+                    0.0
+                }
             } else {
                 (observed as f64 - expected).powi(2) / expected
             };

@@ -38,7 +38,8 @@ pub struct Reciprocity {
 impl Reciprocity {
     /// The verdict of the test.
     pub fn verdict(&self) -> Verdict {
-        let what = if self.with_cosine { "(f - kd/π) cos θi (the course's lobe divides by cos θi alone)" } else { "f" };
+        let what =
+            if self.with_cosine { "(f - kd/π) cos θi (the course's lobe divides by cos θi alone)" } else { "f" };
         let detail = match self.worst {
             Some(((ti, pi, to, po), a, b)) if self.worst_ratio > 0.0 => format!(
                 "{what} over {} pairs, worst at θi {ti}° φi {pi}°, θo {to}° φo {po}°: {a:.6e} against {b:.6e} \
@@ -100,7 +101,11 @@ pub fn measure(renderer: &mut Renderer, brdf: &Brdf) -> Result<Reciprocity> {
         for (&a, &b) in both[0].iter().zip(&both[1]) {
             let allowed = RELATIVE_TOLERANCE * a.abs().max(b.abs()) + ABSOLUTE_TOLERANCE * scale;
             let ratio = if a.is_finite() && b.is_finite() {
-                if allowed > 0.0 { (a - b).abs() / allowed } else { 0.0 }
+                if allowed > 0.0 {
+                    (a - b).abs() / allowed
+                } else {
+                    0.0
+                }
             } else {
                 f64::INFINITY
             };

@@ -74,7 +74,15 @@ fn draw_view<DB: DrawingBackend>(row: &DrawingArea<DB, Shift>, view: &ViewOutcom
     let deviations: Vec<f64> = observed
         .iter()
         .zip(&expected)
-        .map(|(o, e)| if *e > 0.0 { (o - e) / e.sqrt() } else if *o > 0.0 { DEVIATIONS } else { 0.0 })
+        .map(|(o, e)| {
+            if *e > 0.0 {
+                (o - e) / e.sqrt()
+            } else if *o > 0.0 {
+                DEVIATIONS
+            } else {
+                0.0
+            }
+        })
         .collect();
     let count_colour = |v: f64| ViridisRGB::get_color((v / most).clamp(0.0, 1.0));
     let panels = row.split_evenly((1, 3));

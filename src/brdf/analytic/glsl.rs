@@ -507,7 +507,8 @@ mod tests {
             missing.message,
             "the isFunc section defines no function `float pdfBRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`"
         );
-        let mistyped = check(&format!("{BRDF_TEXT}\n{pdf}\nvec3 sampleBRDF(vec3 V, vec3 N, vec2 u) {{ return N; }}")).unwrap();
+        let mistyped =
+            check(&format!("{BRDF_TEXT}\n{pdf}\nvec3 sampleBRDF(vec3 V, vec3 N, vec2 u) {{ return N; }}")).unwrap();
         assert_eq!(mistyped.line, Some(22));
         assert!(mistyped.message.starts_with("the isFunc section defines `vec3 sampleBRDF(vec3, vec3, vec2)`"));
         // The wrapper calls them with the frame and sets the parameters first; a file without a sampler
