@@ -9,8 +9,7 @@ use glam::Vec3;
 
 use common::{renderer, root, temp_dir, vk_render};
 use vk_render::analysis::sampling::{
-    is_isotropic, test_sampler, SamplingOptions, SamplingReport, DEFAULT_LEVEL, DEFAULT_PHI_O, DEFAULT_SAMPLES,
-    DEFAULT_THETA_O,
+    test_sampler, views, SamplingOptions, SamplingReport, DEFAULT_LEVEL, DEFAULT_SAMPLES, DEFAULT_THETA_O,
 };
 use vk_render::brdf::{Analytic, Brdf, DiffuseModel, ParameterValue};
 use vk_render::vulkan::ShaderSources;
@@ -113,10 +112,8 @@ fn every_shipped_sampler_passes_from_sharp_to_rough() {
     }
     let mut renderer = renderer();
     for brdf in &brdfs {
-        let mut options = options();
-        if !is_isotropic(&mut renderer, brdf).unwrap() {
-            options.views = DEFAULT_THETA_O.iter().flat_map(|&t| DEFAULT_PHI_O.map(|p| (t, p))).collect();
-        }
+        let options =
+            SamplingOptions { views: views(&mut renderer, brdf, &DEFAULT_THETA_O, None).unwrap(), ..options() };
         let report = test_sampler(&mut renderer, brdf, &options, || ()).unwrap();
         assert!(report.passed(), "{}: {:#?}", vk_render::analysis::describe(brdf), failures(&report));
     }

@@ -326,12 +326,7 @@ impl PyRenderer {
             return Err(PyValueError::new_err(format!("level = {level}: a probability between 0 and 1")));
         }
         let report = self.with(py, |r| {
-            let phi_o = match phi_o {
-                Some(phi_o) => phi_o,
-                None if sampling::is_isotropic(r, &brdf)? => vec![0.0],
-                None => sampling::DEFAULT_PHI_O.to_vec(),
-            };
-            let views = theta_o.iter().flat_map(|&t| phi_o.iter().map(move |&p| (t, p))).collect();
+            let views = sampling::views(r, &brdf, &theta_o, phi_o.as_deref())?;
             sampling::test_sampler(r, &brdf, &SamplingOptions { views, samples, seed, level }, || ())
         })?;
         let out = PyDict::new(py);

@@ -10,8 +10,7 @@ use clap::Args;
 use super::{progress, SetArgs};
 use vk_render::analysis::sampling::report::{views_csv, SamplingChart};
 use vk_render::analysis::sampling::{
-    is_isotropic, test_sampler, SamplingOptions, SamplingReport, DEFAULT_LEVEL, DEFAULT_PHI_O, DEFAULT_SAMPLES,
-    DEFAULT_THETA_O, GRID,
+    test_sampler, views, SamplingOptions, SamplingReport, DEFAULT_LEVEL, DEFAULT_SAMPLES, DEFAULT_THETA_O, GRID,
 };
 use vk_render::analysis::{describe, select_materials};
 use vk_render::chart::{write_chart, ChartFile};
@@ -107,12 +106,7 @@ fn sampling(args: &SamplingArgs, options: RendererOptions) -> anyhow::Result<boo
         }
     }
     let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);
-    let phi_o = match &args.phi_o {
-        Some(phi_o) => phi_o.clone(),
-        None if is_isotropic(&mut renderer, &material.brdf)? => vec![0.0],
-        None => DEFAULT_PHI_O.to_vec(),
-    };
-    let views: Vec<(f64, f64)> = theta_o.iter().flat_map(|&t| phi_o.iter().map(move |&p| (t, p))).collect();
+    let views = views(&mut renderer, &material.brdf, &theta_o, args.phi_o.as_deref())?;
     let sampling = SamplingOptions { views, samples: args.samples, seed: args.seed, level: args.level };
     let bar = progress(sampling.views.len(), "sampling");
     let report = test_sampler(&mut renderer, &material.brdf, &sampling, || bar.inc(1))?;

@@ -211,6 +211,20 @@ pub fn is_isotropic(renderer: &mut Renderer, brdf: &Brdf) -> Result<bool> {
     }))
 }
 
+/// The views of `theta_o` by `phi_o` (degrees), θo slowest; without `phi_o`, 0 for an isotropic `brdf` and
+/// [`DEFAULT_PHI_O`] for an anisotropic one ([`is_isotropic`]).
+///
+/// # Errors
+/// What the probe pass returns.
+pub fn views(renderer: &mut Renderer, brdf: &Brdf, theta_o: &[f64], phi_o: Option<&[f64]>) -> Result<Vec<(f64, f64)>> {
+    let phi_o = match phi_o {
+        Some(phi_o) => phi_o.to_vec(),
+        None if is_isotropic(renderer, brdf)? => vec![0.0],
+        None => DEFAULT_PHI_O.to_vec(),
+    };
+    Ok(theta_o.iter().flat_map(|&t| phi_o.iter().map(move |&p| (t, p))).collect())
+}
+
 /// The unit view direction at θo, φo (degrees), in the frame n = +z, X = +x.
 pub fn view_direction(theta_o: f64, phi_o: f64) -> Vec3 {
     let (theta, phi) = (theta_o.to_radians(), phi_o.to_radians());
