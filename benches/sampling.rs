@@ -1,14 +1,17 @@
 //! Faster exact images from a material's own sampler, measured side by side in one run: a sphere of each
-//! shipped `.brdf` model that has a sampler (its isFunc section) under the sky in the exact mode, rendered
-//! pass by pass until the standard error of 99% of its pixels is at most [`TARGET_LEVELS`] 8-bit levels,
-//! with the file as shipped and with its isFunc section taken out (the exact mode then draws by the cosine and
-//! the sky alone), the two taking turns; the passes each needs and the median time of its runs. A variant
-//! stopped at [`MAX_PASSES`] states the error it reached and the time the target would take by the error's
-//! 1/√N (marked ~). Run with `cargo bench --bench sampling` (`make bench-sampling`).
+//! shipped `.brdf` model that has a sampler (its isFunc section) and of a measured gold under the sky in the
+//! exact mode, rendered pass by pass until the standard error of 99% of its pixels is at most
+//! [`TARGET_LEVELS`] 8-bit levels, with its sampler and without (the file's isFunc section taken out; the
+//! table's `sampler = false`: the exact mode then draws by the cosine and the sky alone), the two taking
+//! turns; the passes each needs and the median time of its runs. A variant stopped at [`MAX_PASSES`] states
+//! the error it reached and the time the target would take by the error's 1/√N (marked ~). Run with
+//! `cargo bench --bench sampling` (`make bench-sampling`).
 
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+use glam::Vec3;
+use vk_render::brdf::{Brdf, DiffuseModel, MeasuredTable};
 use vk_render::render::exact::Passes;
 use vk_render::{Renderer, RendererOptions, Scene};
 
@@ -27,16 +30,48 @@ const MATERIALS: [(&str, &str); 3] = [
     ("walter_ggx.brdf", "{ kd = 0.05, f0 = [0.95, 0.64, 0.54], alpha = 0.1 }"),
 ];
 
-/// A sphere of `file` (a path) with `params` under the sky, 64 x 64, in the exact mode.
-fn sphere(file: &Path, params: &str) -> Result<Scene, Box<dyn std::error::Error>> {
+/// The measured material: the course's gold at roughness 0.2, tabulated.
+const MEASURED_GOLD: &str = "gold.binary";
+
+/// A sphere of `material` (its section's keys) under the sky, 64 x 64, in the exact mode.
+fn sphere(material: &str) -> Result<Scene, Box<dyn std::error::Error>> {
     let text = format!(
         "[image]\nwidth = 64\nheight = 64\nsamples = 1\ntonemap = \"aces\"\nencoding = \"srgb\"\n[camera]\nposition = \
          [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, 1.0]\nfov_y = 14.0\n[environment]\nbuiltin = \"sky\"\n[material.m]\n\
-         brdf = \"analytic\"\nfile = \"{}\"\nparams = {params}\n[[object]]\nshape = \"sphere\"\ncenter = [0.0, 0.0, \
-         10.0]\nradius = 1.0\nmaterial = \"m\"\n",
-        file.display()
+         {material}\n[[object]]\nshape = \"sphere\"\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\nmaterial = \"m\"\n"
     );
-    Ok(Scene::parse(&text, &file.with_extension("toml"), &[])?)
+    Ok(Scene::parse(&text, Path::new("sphere.toml"), &[])?)
+}
+
+/// A `.brdf` file's material: `file` (a path) with `params`.
+fn analytic(file: &Path, params: &str) -> String {
+    format!("brdf = \"analytic\"\nfile = \"{}\"\nparams = {params}", file.display())
+}
+
+/// A material's name and its sphere with its sampler and without.
+type Case = (String, [Scene; 2]);
+
+/// The pairs to compare, with their samplers and without, by name: each shipped file with a sampler and its
+/// copy in `plain` without its isFunc section; the measured gold's table in `plain`, sampled and not.
+fn cases(brdfs: &Path, plain: &Path) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
+    let mut cases = Vec::new();
+    for (file, params) in MATERIALS {
+        let text = std::fs::read_to_string(brdfs.join(file))?;
+        let begin = text.find("::begin isFunc").ok_or("no isFunc section")?;
+        let end = text.find("::end isFunc").ok_or("no end of the isFunc section")? + "::end isFunc".len();
+        std::fs::write(plain.join(file), format!("{}{}", &text[..begin], &text[end..]))?;
+        let scenes = [sphere(&analytic(&brdfs.join(file), params))?, sphere(&analytic(&plain.join(file), params))?];
+        cases.push((file.to_string(), scenes));
+    }
+    let gold = Vec3::new(1.0, 0.85, 0.57);
+    let model =
+        Brdf::CookTorrance { kd: gold, f0: gold, roughness: 0.2, metalness: 1.0, diffuse: DiffuseModel::Lambert };
+    let table = MeasuredTable::tabulate(plain.join(MEASURED_GOLD), |wi, wo| model.eval(Vec3::Z, wi, wo));
+    std::fs::write(&table.path, table.to_bytes())?;
+    let measured =
+        |sampler: bool| format!("brdf = \"measured\"\nfile = \"{}\"\nsampler = {sampler}", table.path.display());
+    cases.push((format!("measured {MEASURED_GOLD}"), [sphere(&measured(true))?, sphere(&measured(false))?]));
+    Ok(cases)
 }
 
 /// Passes until the target error (or the cap): how many, the error reached, how long.
@@ -67,12 +102,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
          (median of {RUNS}, taking turns):"
     );
     println!("{:<24} {:>24} {:>32} {:>10}", "model", "with its sampler", "cosine and sky alone", "faster");
-    for (file, params) in MATERIALS {
-        let text = std::fs::read_to_string(brdfs.join(file))?;
-        let begin = text.find("::begin isFunc").ok_or("no isFunc section")?;
-        let end = text.find("::end isFunc").ok_or("no end of the isFunc section")? + "::end isFunc".len();
-        std::fs::write(plain.path().join(file), format!("{}{}", &text[..begin], &text[end..]))?;
-        let scenes = [sphere(&brdfs.join(file), params)?, sphere(&plain.path().join(file), params)?];
+    for (name, scenes) in cases(&brdfs, plain.path())? {
         // One untimed pass of each builds its pipelines.
         for scene in &scenes {
             renderer.refine(scene, &mut Passes::new(scene.image.width, scene.image.height))?;
@@ -101,7 +131,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         let capped = reached.iter().any(|&(_, error)| error > TARGET_LEVELS);
         println!(
-            "{file:<24} {:>24} {:>32} {:>6}{:.1}x",
+            "{name:<24} {:>24} {:>32} {:>6}{:.1}x",
             cell(reached[0], with),
             cell(reached[1], without),
             if capped { "~" } else { "" },

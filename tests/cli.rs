@@ -199,6 +199,16 @@ fn a_parameter_of_another_brdf() {
 }
 
 #[test]
+fn a_sampler_switch_on_a_model_without_a_table() {
+    // `sampler` turns a measured table's own sampler off; the course's models have none to turn.
+    fails_after_edit(
+        "kd = [0.5, 0.5, 0.5]",
+        "kd = [0.5, 0.5, 0.5]\nsampler = false",
+        &["scene.toml", "material.grey.sampler", "not a parameter of brdf \"lambert\""],
+    );
+}
+
+#[test]
 fn out_of_range_reflectance() {
     fails_after_edit(
         "kd = [0.5, 0.5, 0.5]",

@@ -1,7 +1,7 @@
 //! Environment light: the white furnace against the albedo probe, the exact mode against the CPU reference
 //! under the sky and the studio, the fast mode within its measured bounds, a map lit from one known
 //! direction and turned by its rotation, a broken sampler caught, and the exact mode drawing from `.brdf`
-//! files' own samplers against the reference, a wrong density among them caught.
+//! files' and measured tables' own samplers against the reference, a wrong density among them caught.
 
 mod common;
 
@@ -394,6 +394,74 @@ fn the_exact_mode_drawing_from_a_files_own_sampler_matches_the_reference() {
     eprintln!("Ward's density without 1 / (4 V.H), against the reference: {c}");
     // The right samplers' image is within a level of the reference everywhere; the mutant's brushed sphere
     // is tens of levels off where the lobe meets the sky's sun (max 28, 1.1% of the pixels over 3).
+    assert!(!acceptable(&c) || c.max > 8, "the mutant passed: {c}");
+}
+
+/// A measured gold (the course's gold at roughness 0.3, tabulated) and a measured Oren-Nayar under the sky
+/// in the exact mode, their tables and the scene file written to `folder`: the scene's path.
+fn measured_under_the_sky(folder: &Path) -> std::path::PathBuf {
+    use vk_render::brdf::{Brdf, DiffuseModel, MeasuredTable};
+    let gold = Vec3::new(1.0, 0.85, 0.57);
+    let models = [
+        (
+            "gold.binary",
+            Brdf::CookTorrance { kd: gold, f0: gold, roughness: 0.3, metalness: 1.0, diffuse: DiffuseModel::Lambert },
+        ),
+        ("matte.binary", Brdf::OrenNayar { kd: Vec3::new(0.6, 0.4, 0.3), sigma: 0.5 }),
+    ];
+    for (name, brdf) in models {
+        let table = MeasuredTable::tabulate(folder.join(name), |wi, wo| brdf.eval(Vec3::Z, wi, wo));
+        std::fs::write(&table.path, table.to_bytes()).unwrap();
+    }
+    let text = "[image]\nwidth = 40\nheight = 20\nsamples = 1\ntonemap = \"reinhard\"\nencoding = \"srgb\"\n\
+         [camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, 1.0]\nfov_y = 14.0\n\
+         [environment]\nbuiltin = \"sky\"\n\
+         [material.gold]\nbrdf = \"measured\"\nfile = \"gold.binary\"\n\
+         [material.matte]\nbrdf = \"measured\"\nfile = \"matte.binary\"\n\
+         [[object]]\nshape = \"sphere\"\ncenter = [-1.1, 0.0, 10.0]\nradius = 1.0\nmaterial = \"gold\"\n\
+         [[object]]\nshape = \"sphere\"\ncenter = [1.1, 0.0, 10.0]\nradius = 1.0\nmaterial = \"matte\"\n";
+    let path = folder.join("measured-under-the-sky.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn the_exact_mode_drawing_from_a_measured_tables_sampler_matches_the_reference() {
+    // The exact mode draws from each table's sampler (beside the cosine and the sky); the reference reads
+    // the MERL files itself and draws by the cosine and the sky alone.
+    let folder = temp_dir();
+    let path = measured_under_the_sky(folder.path());
+    let scene = Scene::load(&path, &[]).unwrap();
+    let traced = reference::render_with_samples(&scene, 64 * REFERENCE_SAMPLES).unwrap();
+    let error = traced.p99_error_levels(&scene.image);
+    assert!(error <= 1.0, "the reference is not exact enough to judge: {error:.2} levels");
+    let band = silhouette_band(&traced.object_ids, scene.image.width, scene.image.height, 2);
+    let expected = traced.image.to_rgb8(&scene.image);
+    let mut renderer = renderer();
+    let gpu = renderer.render(&scene).unwrap().to_rgb8(&scene.image);
+    let sampled = renderer.accuracy().unwrap();
+    let c = compare(&gpu, &expected, &band);
+    eprintln!("measured tables' samplers, exact against the reference ({error:.2} levels): {c}; {sampled}");
+    assert!(acceptable(&c) && c.max <= 2, "measured tables' samplers, exact against the reference: {c}");
+    // With the gold's sampler turned off (`sampler = false`) the same bound takes more passes.
+    let plain = Scene::load(&path, &["material.gold.sampler=false".parse().unwrap()]).unwrap();
+    renderer.render(&plain).unwrap();
+    let unsampled = renderer.accuracy().unwrap();
+    eprintln!("the gold's sampler off: {unsampled}");
+    assert!(
+        unsampled.passes > sampled.passes || unsampled.p99_levels > sampled.p99_levels,
+        "{sampled} against {unsampled}"
+    );
+    drop(renderer);
+    // The table's density without its reflection's 1 / (4 wo.h): the balance heuristic weighs its samples
+    // wrongly, and the image is not the reference's.
+    let mut mutant = mutant_renderer(
+        "brdf/measured_sampler.glsl",
+        "return density / (4.0 * max(dot(wo, h), 1e-12));",
+        "return density;",
+    );
+    let c = compare(&mutant.render(&scene).unwrap().to_rgb8(&scene.image), &expected, &band);
+    eprintln!("the table's density without 1 / (4 wo.h), against the reference: {c}");
     assert!(!acceptable(&c) || c.max > 8, "the mutant passed: {c}");
 }
 

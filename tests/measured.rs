@@ -45,7 +45,7 @@ fn table_of(name: &str, red: impl Fn(usize, usize, usize) -> f32) -> Measured {
             }
         }
     }
-    Measured::from_table(MeasuredTable { path: PathBuf::from(name), rgb })
+    Measured::from_table(MeasuredTable::new(PathBuf::from(name), rgb))
 }
 
 /// wi and wo about +z for half and difference angles (degrees), built by hand in h's frame.

@@ -13,27 +13,37 @@
 #ifndef MEASURED_BINDING
 #error "MEASURED_BINDING: define the binding of the measured tables before including brdf/measured.glsl"
 #endif
-#ifdef WEBGL
-// The browser's build: a float texture of MEASURED_TEXTURE_WIDTH texels a row (WebGL2's least texture
-// size: every browser takes it), one entry (rgb) a texel (src/serve/pages/webgl.js makes it).
-const uint MEASURED_TEXTURE_WIDTH = 2048u;
-layout(set = 0, binding = MEASURED_BINDING) uniform sampler2D measured_tables;
-vec3 measured_texel(uint entry) {
-    return texelFetch(measured_tables, ivec2(entry % MEASURED_TEXTURE_WIDTH, entry / MEASURED_TEXTURE_WIDTH), 0).rgb;
-}
-#else
-layout(set = 0, binding = MEASURED_BINDING, std430) readonly buffer MeasuredTables { float measured_tables[]; };
-vec3 measured_texel(uint entry) {
-    uint i = 3u * entry;
-    return vec3(measured_tables[i], measured_tables[i + 1u], measured_tables[i + 2u]);
-}
-#endif
-
 // BRDF_SAMPLING_RES_THETA_H, _THETA_D and _PHI_D / 2 of BRDFRead.cpp.
 const uint MERL_THETA_H_BINS = 90u;
 const uint MERL_THETA_D_BINS = 90u;
 const uint MERL_PHI_D_BINS = 180u;
 const uint MERL_ENTRIES = MERL_THETA_H_BINS * MERL_THETA_D_BINS * MERL_PHI_D_BINS;
+
+#ifdef WEBGL
+// The browser's build: a float texture of MEASURED_TEXTURE_WIDTH texels a row (WebGL2's least texture
+// size: every browser takes it), one entry (rgb) a texel (src/serve/pages/webgl.js makes it).
+const uint MEASURED_TEXTURE_WIDTH = 2048u;
+layout(set = 0, binding = MEASURED_BINDING) uniform sampler2D measured_tables;
+vec3 measured_texel(uint table, uint index) {
+    uint entry = table * MERL_ENTRIES + index;
+    return texelFetch(measured_tables, ivec2(entry % MEASURED_TEXTURE_WIDTH, entry / MEASURED_TEXTURE_WIDTH), 0).rgb;
+}
+#else
+// The renderer's build: each table's entries, then its sampler's floats (brdf/measured_sampler.glsl,
+// src/brdf/measured_sampler.rs: SAMPLER_FLOATS).
+const uint MEASURED_SAMPLER_FLOATS = 104768u;
+const uint MEASURED_TABLE_FLOATS = 3u * MERL_ENTRIES + MEASURED_SAMPLER_FLOATS;
+layout(set = 0, binding = MEASURED_BINDING, std430) readonly buffer MeasuredTables { float measured_tables[]; };
+vec3 measured_texel(uint table, uint index) {
+    uint i = table * MEASURED_TABLE_FLOATS + 3u * index;
+    return vec3(measured_tables[i], measured_tables[i + 1u], measured_tables[i + 2u]);
+}
+#endif
+
+// A material's `measured`: its table's place, and MEASURED_SAMPLED when the exact mode draws from the
+// table's own sampler (the scene's `sampler`, true unless set false).
+const uint MEASURED_SAMPLED = 0x80000000u;
+uint measured_table(uint field) { return field & ~MEASURED_SAMPLED; }
 
 // A unit vector perpendicular to unit n.
 vec3 any_tangent(vec3 n) {
@@ -69,8 +79,7 @@ vec3 measured_coordinates(vec3 angles) {
 
 // Entry (theta_h, theta_d, phi_d) of table `table`: phi_d + 180 (theta_d + 90 theta_h) (lookup_brdf_val).
 vec3 measured_entry(uint table, uint theta_h, uint theta_d, uint phi_d) {
-    uint index = phi_d + MERL_PHI_D_BINS * (theta_d + MERL_THETA_D_BINS * theta_h);
-    return measured_texel(table * MERL_ENTRIES + index);
+    return measured_texel(table, phi_d + MERL_PHI_D_BINS * (theta_d + MERL_THETA_D_BINS * theta_h));
 }
 
 // Trilinear between the eight entries around c, theta_h and theta_d held at their first and last entries'
@@ -103,9 +112,9 @@ vec3 measured_lookup(uint table, vec3 c) {
     return mix(vec3(0.0), sum / max(weight, vec3(1e-30)), greaterThan(weight, vec3(0.0)));
 }
 
-// f_r(wi, wo) of table `table` about n, both above the horizon.
-vec3 measured(uint table, vec3 n, vec3 wi, vec3 wo) {
-    return measured_lookup(table, measured_coordinates(half_diff_angles(n, wi, wo)));
+// f_r(wi, wo) of the material's table (its `measured`) about n, both above the horizon.
+vec3 measured(uint field, vec3 n, vec3 wi, vec3 wo) {
+    return measured_lookup(measured_table(field), measured_coordinates(half_diff_angles(n, wi, wo)));
 }
 
 #endif

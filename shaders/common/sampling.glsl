@@ -7,6 +7,7 @@
 
 #include "common/math.glsl"
 #include "common/brdf.glsl"
+#include "brdf/measured_sampler.glsl"
 
 // Roberts 2018, "The unreasonable effectiveness of quasirandom sequences": point i of the R2 sequence is
 // fract(offset + i alpha), alpha = (1/g, 1/g^2) with g the plastic number (1.32471...). In 32-bit fixed
@@ -117,12 +118,18 @@ bool has_lobe(Material m) {
     }
 }
 
-// Whether the material has a sampler of its own, beside the cosine: a specular lobe, or a .brdf file's
-// isFunc section (its sampleBRDF and pdfBRDF, src/brdf/analytic/glsl.rs).
+// Whether the material has a sampler of its own, beside the cosine: a specular lobe, a .brdf file's
+// isFunc section (its sampleBRDF and pdfBRDF, src/brdf/analytic/glsl.rs), or a measured table's
+// (brdf/measured_sampler.glsl) unless the scene turned it off.
 bool has_sampler(Material m) {
 #ifdef ANALYTIC_HAS_SAMPLER
     if (brdf_id(m) == BRDF_ANALYTIC) {
         return true;
+    }
+#endif
+#ifndef WEBGL
+    if (brdf_id(m) == BRDF_MEASURED) {
+        return (m.measured & MEASURED_SAMPLED) != 0u;
     }
 #endif
     return has_lobe(m);
@@ -130,11 +137,16 @@ bool has_sampler(Material m) {
 
 // A direction from the material's own sampler: about the mirror of wo for Phong (its lobe times cos is
 // (wi . r)^s exactly), a half vector for Blinn-Phong ((n . h)^s) and Cook-Torrance (GGX's visible
-// normals), reflected; a .brdf file's sampleBRDF (t its X).
+// normals), reflected; a .brdf file's sampleBRDF (t its X); a measured table's half vectors, reflected.
 vec3 lobe_sample(Material m, vec3 n, vec3 t, vec3 wo, vec2 u) {
 #ifdef ANALYTIC_HAS_SAMPLER
     if (brdf_id(m) == BRDF_ANALYTIC) {
         return normalize(analytic_sample(m.analytic, n, t, wo, u));
+    }
+#endif
+#ifndef WEBGL
+    if (brdf_id(m) == BRDF_MEASURED) {
+        return measured_sample(m.measured, n, wo, u);
     }
 #endif
     if (brdf_id(m) == BRDF_PHONG) {
@@ -151,6 +163,11 @@ float lobe_pdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
 #ifdef ANALYTIC_HAS_SAMPLER
     if (brdf_id(m) == BRDF_ANALYTIC) {
         return analytic_pdf(m.analytic, n, t, wi, wo);
+    }
+#endif
+#ifndef WEBGL
+    if (brdf_id(m) == BRDF_MEASURED) {
+        return measured_sample_pdf(m.measured, n, wi, wo);
     }
 #endif
     if (brdf_id(m) == BRDF_PHONG) {
@@ -170,19 +187,27 @@ float lobe_pdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
     return dot(n, h) > 0.0 ? ggx_g1(NoV, alpha) * d_ggx(n, h, alpha) / (4.0 * NoV) : 0.0;
 }
 
+// A measured table's sampler is its estimate from a few points per cell: the cosine keeps a tenth of the
+// draws (Hesterberg 1995's defensive mixture), so that wherever the table reflects, the density is not zero
+// and a draw's weight f_r cos / pdf stays below 10 pi f_r.
+const float MEASURED_SHARE = 0.9;
+
 // The luminance of a reflectance (Rec. 709), which the material's sampler shares its draws by.
 float reflectance_luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 // How often the material's own sampler draws from its lobe rather than the cosine: in proportion to the
 // lobe's reflectance beside the diffuse one's (ks against kd for the course's plastics, the metal's share of
 // f0 against the rest's kd for Cook-Torrance), as renderers share a layered material's samples; always for a
-// .brdf file's sampler, which is the whole of its own.
+// .brdf file's sampler, which is the whole of its own; MEASURED_SHARE for a measured table's.
 float lobe_share(Material m) {
     if (!has_sampler(m)) {
         return 0.0;
     }
     if (brdf_id(m) == BRDF_ANALYTIC) {
         return 1.0;
+    }
+    if (brdf_id(m) == BRDF_MEASURED) {
+        return MEASURED_SHARE;
     }
     float lobe = brdf_id(m) == BRDF_COOK_TORRANCE ? m.metalness * reflectance_luminance(m.f0.rgb)
                                                  : reflectance_luminance(m.ks.rgb);

@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 use std::f32::consts::{FRAC_PI_2, PI};
 use std::fmt;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, Weak};
+use std::sync::{Arc, Mutex, OnceLock, Weak};
 use std::time::SystemTime;
 
 use glam::Vec3;
@@ -37,29 +37,41 @@ pub const FILE_BYTES: u64 = 12 + 3 * 8 * ENTRIES as u64;
 pub const CHANNEL_SCALE: [f64; 3] = [1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0];
 
 /// A MERL table in memory.
-#[derive(Clone, PartialEq)]
+#[derive(Clone)]
 pub struct MeasuredTable {
     /// The file it was read from (or is to be written to).
     pub path: PathBuf,
     /// f_r of every entry, red, green and blue interleaved, in the file's order ([`entry_index`]); a
     /// negative value was not measured.
     pub rgb: Vec<f32>,
+    /// Its sampler ([`super::measured_sampler`]), made when first asked for.
+    sampler: OnceLock<Vec<f32>>,
+}
+
+impl PartialEq for MeasuredTable {
+    fn eq(&self, other: &Self) -> bool {
+        self.path == other.path && self.rgb == other.rgb
+    }
 }
 
 /// A measured material: a shared table. Every object and scene that names the same unchanged file shares
-/// one table ([`Measured::load`]); two are equal when they name the same file.
+/// one table ([`Measured::load`]); two are equal when they name the same file and both draw from its
+/// sampler or neither does.
 #[derive(Clone)]
-pub struct Measured(Arc<MeasuredTable>);
+pub struct Measured {
+    table: Arc<MeasuredTable>,
+    sampled: bool,
+}
 
 impl PartialEq for Measured {
     fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.0, &other.0) || self.0.path == other.0.path
+        (Arc::ptr_eq(&self.table, &other.table) || self.table.path == other.table.path) && self.sampled == other.sampled
     }
 }
 
 impl fmt::Debug for Measured {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "Measured({:?})", self.0.path)
+        write!(f, "Measured({:?}{})", self.table.path, if self.sampled { "" } else { ", no sampler" })
     }
 }
 
@@ -147,6 +159,16 @@ pub fn directions_at(angles: Vec3) -> (Vec3, Vec3) {
 }
 
 impl MeasuredTable {
+    /// The table of `rgb` (f_r of every entry, as [`MeasuredTable::rgb`]) for `path`.
+    pub fn new(path: PathBuf, rgb: Vec<f32>) -> Self {
+        Self { path, rgb, sampler: OnceLock::new() }
+    }
+
+    /// The floats of the table's own sampler ([`super::measured_sampler::sampler`]), made once.
+    pub fn sampler(&self) -> &[f32] {
+        self.sampler.get_or_init(|| super::measured_sampler::sampler(self))
+    }
+
     /// f_r at the continuous coordinates `c` ([`measured_coordinates`]): trilinear between the eight entries
     /// around them, theta_h and theta_d held at their first and last entries' centres, phi_d wrapping
     /// round (180 degrees is 0 again); per channel, the measured corners only, their weights renormalised,
@@ -194,7 +216,7 @@ impl MeasuredTable {
 
     /// The table whose entry of index i ([`entry_index`]) is `values[i]` (f_r at [`entry_directions`]`[i]`).
     pub fn from_entries(path: PathBuf, values: &[Vec3]) -> Self {
-        Self { path, rgb: values.iter().flat_map(|v| v.to_array()).collect() }
+        Self::new(path, values.iter().flat_map(|v| v.to_array()).collect())
     }
 
     /// The table as a MERL file's bytes, every value divided by its channel's scale.
@@ -261,7 +283,7 @@ impl MeasuredTable {
         if !measured {
             return Err(format!("the MERL file {shown} measures nothing: every value is negative"));
         }
-        Ok(Self { path: path.to_path_buf(), rgb })
+        Ok(Self::new(path.to_path_buf(), rgb))
     }
 }
 
@@ -283,7 +305,7 @@ impl Measured {
         if let (Some((len, modified)), Some((held_len, held_modified, table))) = (stamp, tables.get(&key)) {
             if (len, modified) == (*held_len, *held_modified) {
                 if let Some(table) = table.upgrade() {
-                    return Ok(Self(table));
+                    return Ok(Self::sharing(table));
                 }
             }
         }
@@ -292,32 +314,48 @@ impl Measured {
         if let Some((len, modified)) = stamp {
             tables.insert(key, (len, modified, Arc::downgrade(&table)));
         }
-        Ok(Self(table))
+        Ok(Self::sharing(table))
+    }
+
+    fn sharing(table: Arc<MeasuredTable>) -> Self {
+        Self { table, sampled: true }
     }
 
     /// A material of a table in memory.
     pub fn from_table(table: MeasuredTable) -> Self {
-        Self(Arc::new(table))
+        Self::sharing(Arc::new(table))
+    }
+
+    /// The same table, the exact mode drawing from its sampler ([`super::measured_sampler`]) or not (the
+    /// scene's `sampler = false`: the cosine and the environment alone, as before tables had samplers).
+    #[must_use]
+    pub fn with_sampler(self, sampled: bool) -> Self {
+        Self { sampled, ..self }
+    }
+
+    /// Whether the exact mode draws from the table's sampler.
+    pub fn sampled(&self) -> bool {
+        self.sampled
     }
 
     /// The table.
     pub fn table(&self) -> &MeasuredTable {
-        &self.0
+        &self.table
     }
 
     /// The file it was read from.
     pub fn path(&self) -> &Path {
-        &self.0.path
+        &self.table.path
     }
 
     /// Whether `self` and `other` are the same table in memory (not only the same file).
     pub fn same_table(&self, other: &Measured) -> bool {
-        Arc::ptr_eq(&self.0, &other.0)
+        Arc::ptr_eq(&self.table, &other.table)
     }
 
     /// f_r(wi, wo) about n ([`MeasuredTable::eval`]).
     pub fn eval(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
-        self.0.eval(n, wi, wo)
+        self.table.eval(n, wi, wo)
     }
 }
 
@@ -345,7 +383,7 @@ pub(crate) mod tests {
                 }
             }
         }
-        MeasuredTable { path: "by-hand".into(), rgb }
+        MeasuredTable::new("by-hand".into(), rgb)
     }
 
     fn red(table: &MeasuredTable, (wi, wo): (Vec3, Vec3)) -> f32 {

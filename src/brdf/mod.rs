@@ -9,6 +9,7 @@ mod blinn_phong;
 mod cook_torrance;
 mod lambert;
 pub mod measured;
+pub mod measured_sampler;
 mod oren_nayar;
 mod phong;
 #[cfg(test)]

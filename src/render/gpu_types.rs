@@ -76,7 +76,8 @@ pub struct GpuMaterial {
     pub metalness: f32,
     /// Under Cook-Torrance: the diffuse lobe, [`DIFFUSE_OREN_NAYAR`] or [`DIFFUSE_LAMBERT`].
     pub diffuse: u32,
-    /// Under `BRDF_MEASURED`: the material's table in the measured tables' buffer.
+    /// Under `BRDF_MEASURED`: the material's table in the measured tables' buffer, with [`MEASURED_SAMPLED`]
+    /// when the exact mode draws from its sampler.
     pub measured: u32,
     /// Under `BRDF_ANALYTIC`: the first of the material's values in the analytic values' buffer.
     pub analytic: u32,
@@ -96,6 +97,10 @@ pub struct GpuObject {
     /// y: the tangent rule, [`TANGENT_DEFAULT`] or [`TANGENT_PLANE`]; z and w unused.
     pub flags: [u32; 4],
 }
+
+/// In [`GpuMaterial::measured`], beside the table's place: the exact mode draws from the table's sampler
+/// (`MEASURED_SAMPLED` of `shaders/brdf/measured.glsl`).
+pub const MEASURED_SAMPLED: u32 = 1 << 31;
 
 /// The BRDF ids of `shaders/common/brdf.glsl`: this one [`Brdf::Lambert`].
 pub const BRDF_LAMBERT: u32 = 0;
@@ -234,7 +239,10 @@ impl GpuMaterial {
     pub fn new(brdf: &Brdf, data: MaterialData) -> Self {
         let base = GpuMaterial { brdf: brdf_id(brdf), ..GpuMaterial::default() };
         match *brdf {
-            Brdf::Measured(ref table) => GpuMaterial { measured: data.measured.slot(table), ..base },
+            Brdf::Measured(ref table) => GpuMaterial {
+                measured: data.measured.slot(table) | if table.sampled() { MEASURED_SAMPLED } else { 0 },
+                ..base
+            },
             Brdf::Analytic(ref material) => GpuMaterial { analytic: data.analytic.first(material), ..base },
             _ => Self::of_parameters(brdf),
         }

@@ -1,15 +1,19 @@
 //! The measured materials' tables on the GPU: one storage buffer holding every table the work at hand uses,
-//! one after the other (`MeasuredTables` of `shaders/brdf/measured.glsl`), kept while the next work uses
-//! the same tables.
+//! one after the other, each followed by its sampler (`MeasuredTables` of `shaders/brdf/measured.glsl`),
+//! kept while the next work uses the same tables.
 
 use std::sync::Arc;
 
 use ash::vk;
 
 use crate::brdf::measured::ENTRIES;
+use crate::brdf::measured_sampler::SAMPLER_FLOATS;
 use crate::brdf::{Brdf, Measured};
 use crate::error::{Error, Result};
 use crate::vulkan::{Buffer, Device};
+
+/// The floats of a table's place in the buffer: its entries, then its sampler (`MEASURED_TABLE_FLOATS`).
+const TABLE_FLOATS: usize = 3 * ENTRIES + SAMPLER_FLOATS;
 
 /// The buffer, and which table is at which place in it.
 pub struct MeasuredTables {
@@ -47,7 +51,7 @@ impl MeasuredTables {
         if wanted.iter().all(|w| self.held.iter().any(|h| h.same_table(w))) {
             return Ok(());
         }
-        let bytes = (wanted.len() * 3 * ENTRIES * std::mem::size_of::<f32>()) as u64;
+        let bytes = (wanted.len() * TABLE_FLOATS * std::mem::size_of::<f32>()) as u64;
         let range = u64::from(device.limits.max_storage_buffer_range);
         if bytes > range {
             return Err(Error::Device(format!(
@@ -59,9 +63,10 @@ impl MeasuredTables {
                 range / (bytes / wanted.len() as u64)
             )));
         }
-        let mut values = Vec::with_capacity(wanted.len() * 3 * ENTRIES);
+        let mut values = Vec::with_capacity(wanted.len() * TABLE_FLOATS);
         for table in &wanted {
             values.extend_from_slice(&table.table().rgb);
+            values.extend_from_slice(table.table().sampler());
         }
         self.buffer =
             device.create_buffer_with_data(&values, vk::BufferUsageFlags::STORAGE_BUFFER, "measured tables")?;

@@ -139,6 +139,8 @@ pub struct MaterialSection {
     pub file: Option<String>,
     /// An analytic material's parameter values, by the names its `.brdf` file declares.
     pub params: Option<toml::Table>,
+    /// A measured material: whether the exact mode draws from the table's own sampler (true unless set).
+    pub sampler: Option<bool>,
 }
 
 /// One `[[object]]`: the keys of every shape, each checked against the shape in validation.

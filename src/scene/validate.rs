@@ -209,7 +209,7 @@ const BRDF_PARAMETERS: [(&str, &[&str]); 7] = [
     ("phong", &["kd", "ks", "shininess"]),
     ("blinn-phong", &["kd", "ks", "shininess"]),
     ("cook-torrance", &["kd", "f0", "roughness", "metalness", "diffuse"]),
-    ("measured", &["file"]),
+    ("measured", &["file", "sampler"]),
     ("analytic", &["file", "params"]),
 ];
 
@@ -235,6 +235,7 @@ fn material(name: &str, s: &MaterialSection, scene_path: &Path) -> Check<Brdf> {
         ("diffuse", s.diffuse.is_some()),
         ("file", s.file.is_some()),
         ("params", s.params.is_some()),
+        ("sampler", s.sampler.is_some()),
     ];
     if let Some((param, _)) = present.iter().find(|(param, set)| *set && !accepted.contains(param)) {
         return Err(format!("{}: not a parameter of brdf {:?} (it takes {})", key(param), s.brdf, accepted.join(", ")));
@@ -253,7 +254,7 @@ fn material(name: &str, s: &MaterialSection, scene_path: &Path) -> Check<Brdf> {
         // material shares the one table).
         let path = beside_scene(file, scene_path);
         return Measured::load(&path)
-            .map(Brdf::Measured)
+            .map(|table| Brdf::Measured(table.with_sampler(s.sampler.unwrap_or(true))))
             .map_err(|e| format!("{} = {}: {e}", key("file"), quoted(file)));
     }
     if s.brdf == "analytic" {
