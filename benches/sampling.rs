@@ -1,11 +1,11 @@
 //! Faster exact images from a material's own sampler, measured side by side in one run: a sphere of each
-//! shipped `.brdf` model that has a sampler (its isFunc section) and of a measured gold under the sky in the
-//! exact mode, rendered pass by pass until the standard error of 99% of its pixels is at most
-//! [`TARGET_LEVELS`] 8-bit levels, with its sampler and without (the file's isFunc section taken out; the
-//! table's `sampler = false`: the exact mode then draws by the cosine and the sky alone), the two taking
-//! turns; the passes each needs and the median time of its runs. A variant stopped at [`MAX_PASSES`] states
-//! the error it reached and the time the target would take by the error's 1/√N (marked ~). Run with
-//! `cargo bench --bench sampling` (`make bench-sampling`).
+//! shipped `.brdf` model that has a sampler (its isFunc section), `assets/analytic/anisotropic-spheres.toml`
+//! (four such files) and a sphere of a measured gold, under the sky in the exact mode, rendered pass by pass
+//! until the standard error of 99% of its pixels is at most [`TARGET_LEVELS`] 8-bit levels, with its sampler
+//! and without (the file's isFunc section taken out; the table's `sampler = false`: the exact mode then draws
+//! by the cosine and the sky alone), the two taking turns; the passes each needs and the median time of its
+//! runs. A variant stopped at [`MAX_PASSES`] states the error it reached and the time the target would take
+//! by the error's 1/√N (marked ~). Run with `cargo bench --bench sampling` (`make bench-sampling`).
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -48,21 +48,42 @@ fn analytic(file: &Path, params: &str) -> String {
     format!("brdf = \"analytic\"\nfile = \"{}\"\nparams = {params}", file.display())
 }
 
-/// A material's name and its sphere with its sampler and without.
+/// A material's (or scene's) name and its scene with its sampler and without.
 type Case = (String, [Scene; 2]);
 
-/// The pairs to compare, with their samplers and without, by name: each shipped file with a sampler and its
-/// copy in `plain` without its isFunc section; the measured gold's table in `plain`, sampled and not.
-fn cases(brdfs: &Path, plain: &Path) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
+/// The `.brdf` file `text` without its isFunc section: the exact mode then draws by the cosine and the
+/// environment alone.
+fn without_sampler(text: &str) -> Result<String, Box<dyn std::error::Error>> {
+    let begin = text.find("::begin isFunc").ok_or("no isFunc section")?;
+    let end = text.find("::end isFunc").ok_or("no end of the isFunc section")? + "::end isFunc".len();
+    Ok(format!("{}{}", &text[..begin], &text[end..]))
+}
+
+/// The pairs to compare, with their samplers and without, by name: each shipped file with a sampler
+/// (its copy without its isFunc section in `plain/brdfs`); `assets/analytic/anisotropic-spheres.toml` under
+/// the sky at 192 x 54, its four files as shipped and as copied; the measured gold's table (written to
+/// `plain`), sampled and not.
+fn cases(assets: &Path, plain: &Path) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
+    let brdfs = assets.join("brdfs");
+    let plain_brdfs = plain.join("brdfs");
+    std::fs::create_dir_all(&plain_brdfs)?;
+    for file in ["ward.brdf", "ashikhmin_shirley.brdf", "walter_ggx.brdf", "disney.brdf"] {
+        std::fs::write(plain_brdfs.join(file), without_sampler(&std::fs::read_to_string(brdfs.join(file))?)?)?;
+    }
     let mut cases = Vec::new();
     for (file, params) in MATERIALS {
-        let text = std::fs::read_to_string(brdfs.join(file))?;
-        let begin = text.find("::begin isFunc").ok_or("no isFunc section")?;
-        let end = text.find("::end isFunc").ok_or("no end of the isFunc section")? + "::end isFunc".len();
-        std::fs::write(plain.join(file), format!("{}{}", &text[..begin], &text[end..]))?;
-        let scenes = [sphere(&analytic(&brdfs.join(file), params))?, sphere(&analytic(&plain.join(file), params))?];
+        let scenes =
+            [sphere(&analytic(&brdfs.join(file), params))?, sphere(&analytic(&plain_brdfs.join(file), params))?];
         cases.push((file.to_string(), scenes));
     }
+    let spheres = assets.join("analytic/anisotropic-spheres.toml");
+    let text = std::fs::read_to_string(&spheres)? + "\n[environment]\nbuiltin = \"sky\"\n";
+    let plain_spheres = plain.join("analytic/anisotropic-spheres.toml");
+    std::fs::create_dir_all(plain.join("analytic"))?;
+    std::fs::write(&plain_spheres, &text)?;
+    let size = ["image.width=192".parse()?, "image.height=54".parse()?];
+    let scenes = [Scene::parse(&text, &spheres, &size)?, Scene::parse(&text, &plain_spheres, &size)?];
+    cases.push(("anisotropic-spheres.toml".to_string(), scenes));
     let gold = Vec3::new(1.0, 0.85, 0.57);
     let model =
         Brdf::CookTorrance { kd: gold, f0: gold, roughness: 0.2, metalness: 1.0, diffuse: DiffuseModel::Lambert };
@@ -95,14 +116,14 @@ fn median(mut samples: Vec<Duration>) -> Duration {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut renderer = Renderer::new(RendererOptions::default())?;
     println!("device: {}", renderer.device_info().name);
-    let brdfs = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brdfs");
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
     let plain = tempfile::tempdir()?;
     println!(
-        "\na sphere under the sky in the exact mode, 64 x 64, to {TARGET_LEVELS} level at 99% of the pixels \
-         (median of {RUNS}, taking turns):"
+        "\nunder the sky in the exact mode (a sphere at 64 x 64, the scene at 192 x 54), to {TARGET_LEVELS} level at \
+         99% of the pixels (median of {RUNS}, taking turns):"
     );
     println!("{:<24} {:>24} {:>32} {:>10}", "model", "with its sampler", "cosine and sky alone", "faster");
-    for (name, scenes) in cases(&brdfs, plain.path())? {
+    for (name, scenes) in cases(&assets, plain.path())? {
         // One untimed pass of each builds its pipelines.
         for scene in &scenes {
             renderer.refine(scene, &mut Passes::new(scene.image.width, scene.image.height))?;
