@@ -25,10 +25,11 @@ cargo=${CARGO:-cargo}
 jobs=${VK_RENDER_TEST_JOBS:-$(nproc)}
 limit=${VK_RENDER_TEST_TIMEOUT:-1200}
 
-# The tests that took longest (tests/environment.rs 147 s of CPU, analytic_fit.rs 112 s, pytest 59 s, cli.rs
-# 74 s, cold on 2 cores): started first, so that no long one is left running alone at the end.
-longest_first=(tests/environment.rs tests/analytic_fit.rs python/tests tests/cli.rs tests/preview.rs tests/docs.rs
-    tests/analytic_cli.rs tests/measured.rs tests/serve.rs tests/check.rs)
+# The tests that took longest (tests/sampling.rs 311 s of CPU, serve_browser.rs 190 s, environment.rs 125 s,
+# analytic_fit.rs 31 s, pytest 32 s, cli.rs 26 s, on 2 cores): started first, so that no long one is left
+# running alone at the end.
+longest_first=(tests/sampling.rs tests/environment.rs tests/serve_browser.rs tests/analytic_fit.rs python/tests
+    tests/cli.rs tests/preview.rs tests/docs.rs tests/analytic_cli.rs tests/measured.rs tests/serve.rs tests/check.rs)
 
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT

@@ -81,6 +81,10 @@ enum Command {
     /// page for a course's staff): prints `listening on http://ADDR:PORT` once it accepts connections.
     #[cfg(feature = "serve")]
     Serve(serve::ServeArgs),
+    /// Write the explorer as a static folder that any static file server serves, with no vk-render process
+    /// behind it (see docs/serve.md): prints the folder's size.
+    #[cfg(feature = "serve")]
+    Site(serve::site::SiteArgs),
     /// List the Vulkan devices and which one is used by default.
     Devices,
 }
@@ -223,6 +227,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Preview(args) => commands::preview::run(args, options),
         #[cfg(feature = "serve")]
         Command::Serve(args) => serve::run(args, options),
+        #[cfg(feature = "serve")]
+        Command::Site(args) => serve::site::run(args, options),
     };
     done.map(|()| ExitCode::SUCCESS)
 }

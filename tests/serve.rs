@@ -1,7 +1,8 @@
 //! `vk-render serve` against a real server on a loopback port: every route answers as the command line does
 //! (the same PNG bytes, the same CSV, the same verdict), every hostile input gets its status and one line and
 //! the next request is served, the token guards a server that listens beyond loopback, and the faults (a
-//! client gone mid-upload, SIGTERM in a burst, a device error) leave every accepted request answered.
+//! client gone mid-upload, SIGTERM in a burst, a device error) leave every accepted request answered; and
+//! `vk-render site` writes the server's pages and the API's answers as files.
 
 mod common;
 
@@ -760,4 +761,43 @@ fn the_guides_api_examples_run_as_written() {
     assert!(scene.contains("power = 30"), "{scene}");
     let (code, stderr, _) = server.terminate(Duration::from_secs(30));
     assert_eq!(code, Some(0), "{stderr}");
+}
+
+#[test]
+fn the_site_is_the_servers_pages_and_its_data_as_files() {
+    let folder = common::temp_dir();
+    let site = folder.path().join("site");
+    let written = common::vk_render(&["site", "-o", site.to_str().unwrap()]);
+    assert!(written.status.success(), "{}", String::from_utf8_lossy(&written.stderr));
+    // The server's own pages and scripts, byte for byte, site.js aside.
+    let server = Server::local();
+    for (file, path) in
+        [("explore.html", "/explore"), ("check.html", "/check"), ("static/webgl.js", "/static/webgl.js")]
+    {
+        let served = server.get(path);
+        assert_eq!(std::fs::read(site.join(file)).unwrap(), served.body, "{file}");
+    }
+    // The scene list as the API answers it, each scene numbering its materials for their files.
+    let scenes: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(site.join("data/scenes.json")).unwrap()).unwrap();
+    let api: serde_json::Value = serde_json::from_slice(&server.get("/api/scenes").body).unwrap();
+    assert_eq!(scenes.as_array().unwrap().len(), api.as_array().unwrap().len());
+    assert_eq!(scenes[0]["site"]["materials"], json!({"grey": 0, "red": 1}), "{}", scenes[0]["id"]);
+    // Each mesh as /api/mesh hands it out.
+    let mesh = server.get("/api/mesh?scene=fig5-golden-bunny&object=0");
+    assert_eq!(std::fs::read(site.join("data/fig5-golden-bunny/mesh-0.bin")).unwrap(), mesh.body);
+    let (code, stderr, _) = server.terminate(std::time::Duration::from_secs(30));
+    assert_eq!(code, Some(0), "{stderr}");
+    // Written again over itself; an existing path it did not write is refused, one line, and left as it was.
+    assert!(common::vk_render(&["site", "-o", site.to_str().unwrap()]).status.success());
+    let other = folder.path().join("notes");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join("mine.txt"), "mine").unwrap();
+    let refused = common::vk_render(&["site", "-o", other.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success() && stderr.contains("it exists and is not an empty folder"), "{stderr}");
+    assert_eq!(std::fs::read_dir(&other).unwrap().count(), 1);
+    let missing = common::vk_render(&["site", "-o", site.to_str().unwrap(), "--scenes", "no-such-folder"]);
+    let stderr = String::from_utf8_lossy(&missing.stderr);
+    assert!(!missing.status.success() && stderr.contains("--scenes no-such-folder"), "{stderr}");
 }

@@ -366,12 +366,17 @@ pub async fn environment_albedo(State(app): State<Arc<App>>, body: Bytes) -> Res
     let material = material(&app, &request)?;
     app.workers
         .run(Lane::Long, move |renderer| {
-            let table = renderer.albedo_table(&material.brdf)?;
-            let floats: Vec<f32> =
-                table.iter().flat_map(|entry| entry.diffuse.into_iter().chain(entry.specular)).collect();
-            Ok(([(header::CONTENT_TYPE, "application/json")], json!({ "table": floats }).to_string()).into_response())
+            let table = albedo_file(renderer, &material.brdf)?;
+            Ok(([(header::CONTENT_TYPE, "application/json")], table).into_response())
         })
         .await
+}
+
+/// `brdf`'s albedo table as `POST /api/environment-albedo` answers it.
+pub fn albedo_file(renderer: &mut Renderer, brdf: &Brdf) -> vk_render::Result<String> {
+    let table = renderer.albedo_table(brdf)?;
+    let floats: Vec<f32> = table.iter().flat_map(|entry| entry.diffuse.into_iter().chain(entry.specular)).collect();
+    Ok(json!({ "table": floats }).to_string())
 }
 
 /// `GET /api/reports/ID`: a check's report as JSON, while it is kept.

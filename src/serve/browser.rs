@@ -35,11 +35,16 @@ const SHADERS: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/webgl.rs"))
 
 /// `GET /static/shaders.json`: every translated shader by its entry file's name, one JSON object.
 pub async fn shaders() -> Response {
+    ([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "no-cache")], shaders_file()).into_response()
+}
+
+/// Every translated shader by its entry file's name, one JSON object, as `GET /static/shaders.json` hands it out.
+pub fn shaders_file() -> &'static str {
     static TEXT: LazyLock<String> = LazyLock::new(|| {
         let table: BTreeMap<&str, &str> = SHADERS.iter().copied().collect();
         serde_json::to_string(&table).unwrap_or_default()
     });
-    ([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "no-cache")], TEXT.as_str()).into_response()
+    TEXT.as_str()
 }
 
 /// A scene as the browser draws it (`GET /api/scenes`, each scene's `browser`).
@@ -304,22 +309,22 @@ pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -
     let scene = entry.scene.clone();
     let (id, motion) = (entry.id.clone(), query.motion);
     let key = format!("mesh {} {object} {motion}", entry.id);
-    let bytes = app
-        .browser_files
-        .get(key, move || {
-            // An OBJ is read from disk (once per process).
-            let placed = vk_render::mesh::place_objects(&scene).map_err(|e| ApiError::from_library(&e))?;
-            let mesh = &placed[object].mesh;
-            if !motion {
-                return Ok(mesh_bytes(mesh));
-            }
-            let light = motion_mesh(mesh).ok_or_else(|| {
-                ApiError::new(StatusCode::NOT_FOUND, format!("scene {id}: object {object}: no lighter mesh for motion"))
-            })?;
-            Ok(mesh_bytes(&light))
-        })
-        .await?;
+    let bytes = app.browser_files.get(key, move || mesh_file(&id, &scene, object, motion)).await?;
     Ok(binary(bytes))
+}
+
+/// Object `object`'s mesh of scene `id` as `GET /api/mesh` hands it out (an OBJ read from disk), or its
+/// lighter mesh of the motion frames.
+pub fn mesh_file(id: &str, scene: &Scene, object: usize, motion: bool) -> Result<Vec<u8>, ApiError> {
+    let placed = vk_render::mesh::place_objects(scene).map_err(|e| ApiError::from_library(&e))?;
+    let mesh = &placed[object].mesh;
+    if !motion {
+        return Ok(mesh_bytes(mesh));
+    }
+    let light = motion_mesh(mesh).ok_or_else(|| {
+        ApiError::new(StatusCode::NOT_FOUND, format!("scene {id}: object {object}: no lighter mesh for motion"))
+    })?;
+    Ok(mesh_bytes(&light))
 }
 
 /// A mesh as `GET /api/mesh` hands it out.
@@ -353,11 +358,13 @@ pub async fn measured(State(app): State<Arc<App>>, Query(query): Query<TableQuer
         return Err(no_material(entry, &query.material, "measured"));
     };
     let key = format!("measured {} {}", entry.id, query.material);
-    let bytes = app
-        .browser_files
-        .get(key, move || Ok(table.table().rgb.iter().flat_map(|v| v.to_le_bytes()).collect()))
-        .await?;
+    let bytes = app.browser_files.get(key, move || Ok(measured_file(&table))).await?;
     Ok(binary(bytes))
+}
+
+/// A measured material's table as `GET /api/measured` hands it out.
+pub fn measured_file(table: &vk_render::brdf::Measured) -> Vec<u8> {
+    table.table().rgb.iter().flat_map(|v| v.to_le_bytes()).collect()
 }
 
 /// `GET /api/analytic?scene=ID&material=NAME`: an analytic material's browser shaders (the forward passes'
@@ -370,16 +377,15 @@ pub async fn analytic(State(app): State<Arc<App>>, Query(query): Query<TableQuer
     };
     let model = material.model().clone();
     let key = format!("analytic {:016x}", model.key());
-    let bytes = app
-        .browser_files
-        .get(key, move || {
-            let shaders = vk_render::webgl::analytic_shaders(&model, &Default::default())
-                .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("{}: {e}", model.name())))?;
-            serde_json::to_vec(&shaders)
-                .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("{}: {e}", model.name())))
-        })
-        .await?;
+    let bytes = app.browser_files.get(key, move || analytic_file(&model)).await?;
     Ok(([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "max-age=3600")], bytes).into_response())
+}
+
+/// A `.brdf` model's browser shaders as `GET /api/analytic` hands them out (a JSON object by entry name).
+pub fn analytic_file(model: &vk_render::brdf::AnalyticModel) -> Result<Vec<u8>, ApiError> {
+    let failed = |e: String| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("{}: {e}", model.name()));
+    let shaders = vk_render::webgl::analytic_shaders(model, &Default::default()).map_err(|e| failed(e.to_string()))?;
+    serde_json::to_vec(&shaders).map_err(|e| failed(e.to_string()))
 }
 
 #[derive(Deserialize)]
@@ -398,23 +404,22 @@ pub async fn environment(State(app): State<Arc<App>>, Query(query): Query<SceneQ
     };
     let scene = entry.scene.clone();
     let key = format!("environment {}", entry.id);
-    let bytes = app
-        .browser_files
-        .get(key, move || {
-            // A map file is read from disk (once per process).
-            let map = EnvironmentMap::of(&scene, &environment).map_err(|e| ApiError::from_library(&e))?;
-            let layers = prefiltered_layers(&map);
-            let mut bytes = Vec::with_capacity(20 + 12 * (map.texels.len() + layers.len()));
-            for size in [map.width, map.height, LAYER_WIDTH, LAYER_WIDTH / 2, LAYERS] {
-                bytes.extend(size.to_le_bytes());
-            }
-            for texel in map.texels.iter().chain(&layers) {
-                for value in texel.to_array() {
-                    bytes.extend(value.to_le_bytes());
-                }
-            }
-            Ok(bytes)
-        })
-        .await?;
+    let bytes = app.browser_files.get(key, move || environment_file(&scene, &environment)).await?;
     Ok(binary(bytes))
+}
+
+/// A scene's environment as `GET /api/environment` hands it out (a map file read from disk).
+pub fn environment_file(scene: &Scene, environment: &vk_render::scene::Environment) -> Result<Vec<u8>, ApiError> {
+    let map = EnvironmentMap::of(scene, environment).map_err(|e| ApiError::from_library(&e))?;
+    let layers = prefiltered_layers(&map);
+    let mut bytes = Vec::with_capacity(20 + 12 * (map.texels.len() + layers.len()));
+    for size in [map.width, map.height, LAYER_WIDTH, LAYER_WIDTH / 2, LAYERS] {
+        bytes.extend(size.to_le_bytes());
+    }
+    for texel in map.texels.iter().chain(&layers) {
+        for value in texel.to_array() {
+            bytes.extend(value.to_le_bytes());
+        }
+    }
+    Ok(bytes)
 }

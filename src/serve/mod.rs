@@ -15,6 +15,7 @@ mod explore;
 mod limits;
 mod pages;
 mod reports;
+pub mod site;
 mod workers;
 
 use std::net::SocketAddr;
@@ -177,8 +178,11 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
 fn router(app: Arc<App>, deadline: Duration) -> Router {
     let pages = Router::new()
         .route("/", get(pages::index))
+        .route("/index.html", get(pages::index))
         .route("/explore", get(pages::explore))
+        .route("/explore.html", get(pages::explore))
         .route("/check", get(pages::check))
+        .route("/check.html", get(pages::check))
         .route("/reports/{id}", get(pages::report))
         .route("/signin", get(pages::sign_in_query).post(pages::sign_in_form))
         .route("/static/shaders.json", get(browser::shaders))

@@ -15,6 +15,7 @@ use super::App;
 /// One embedded file: its path under /static/, its type and its bytes.
 const STATIC: &[(&str, &str, &str)] = &[
     ("style.css", "text/css; charset=utf-8", include_str!("pages/style.css")),
+    ("site.js", "text/javascript; charset=utf-8", include_str!("pages/site.js")),
     ("common.js", "text/javascript; charset=utf-8", include_str!("pages/common.js")),
     ("explore.js", "text/javascript; charset=utf-8", include_str!("pages/explore.js")),
     ("webgl.js", "text/javascript; charset=utf-8", include_str!("pages/webgl.js")),
@@ -22,6 +23,17 @@ const STATIC: &[(&str, &str, &str)] = &[
     ("report.js", "text/javascript; charset=utf-8", include_str!("pages/report.js")),
     ("icon.svg", "image/svg+xml", include_str!("pages/icon.svg")),
 ];
+
+/// The pages and scripts a folder of `vk-render site` holds, by their paths in it: the same files as the
+/// server's (its own `static/site.js` aside, which the site writes), where the pages' relative links find them.
+pub fn site_files() -> impl Iterator<Item = (String, &'static [u8])> {
+    let pages = [("index.html", INDEX), ("explore.html", EXPLORE), ("check.html", CHECK)];
+    let scripts = STATIC.iter().filter(|(name, _, _)| !matches!(*name, "site.js" | "report.js"));
+    pages
+        .into_iter()
+        .map(|(name, text)| (name.to_string(), text.as_bytes()))
+        .chain(scripts.map(|(name, _, text)| (format!("static/{name}"), text.as_bytes())))
+}
 
 const INDEX: &str = include_str!("pages/index.html");
 const EXPLORE: &str = include_str!("pages/explore.html");

@@ -33,6 +33,7 @@ async function submit(event) {
 }
 
 async function start() {
+  if (SITE) return;  // a folder of vk-render site: no server to check with (the page says so)
   const drop = $("drop");
   drop.addEventListener("dragover", (event) => { event.preventDefault(); drop.classList.add("over"); });
   drop.addEventListener("dragleave", () => drop.classList.remove("over"));

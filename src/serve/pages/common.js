@@ -1,5 +1,34 @@
-// What every page of vk-render serve shares: the API's calls and small DOM helpers.
+// What every page of vk-render serve and of a folder of vk-render site shares: the API's calls (or the
+// folder's files in their place: site.js's SITE) and small DOM helpers.
 "use strict";
+
+// The address of a piece of a scene's data: the API's under `vk-render serve`; in a folder `vk-render site`
+// wrote, the file it wrote for it (src/serve/site.rs names them so), relative to the page. `kind` is the
+// API's route (scenes, mesh, measured, analytic, environment, environment-albedo); a material is named by
+// the number the folder's scene list gives it.
+function dataUrl(kind, scene, query = {}) {
+  if (!SITE) {
+    const parameters = new URLSearchParams(scene ? { scene: scene.id, ...query } : query).toString();
+    return `/api/${kind}${parameters ? "?" + parameters : ""}`;
+  }
+  if (kind === "scenes") return "data/scenes.json";
+  const folder = `data/${scene.id}/`;
+  const material = () => scene.site.materials[query.material];
+  switch (kind) {
+    case "mesh": return `${folder}mesh-${query.object}${query.motion ? "-motion" : ""}.bin`;
+    case "measured": return `${folder}measured-${material()}.bin`;
+    case "analytic": return `${folder}analytic-${material()}.json`;
+    case "environment": return `${folder}environment.bin`;
+    case "environment-albedo": return `${folder}albedo-${material()}.json`;
+    default: throw new Error(`${kind}: not in this folder`);
+  }
+}
+
+// What only the server does is hidden in a folder of vk-render site, and what only such a folder says shown.
+document.addEventListener("DOMContentLoaded", () => {
+  document.querySelectorAll(SITE ? "[data-server-only]" : "[data-site-only]").forEach((e) => { e.hidden = true; });
+  if (SITE) document.querySelectorAll("[data-site-only]").forEach((e) => { e.hidden = false; });
+});
 
 // A POST of JSON to the API; the answer as a Blob, or an Error with the server's one line.
 async function postJson(path, body) {

@@ -59,6 +59,7 @@ function sendState(still) {
     studiesLater();
     return;
   }
+  if (SITE) return;  // no server: nothing draws it (useServer said why)
   if (!page.socket) connect();
   if (page.socket.readyState !== WebSocket.OPEN) return;
   page.sent += 1;
@@ -74,10 +75,13 @@ function sendOnSocket(still) {
 }
 
 // Whether the browser's frames of this scene are not its exact image: an environment's light that `render`
-// integrates exactly (the browser draws its fast mode). Its still frame is then the server's.
-function stillFromServer() {
+// integrates exactly (the browser draws its fast mode). Its still frame is then the server's, if there is one.
+function notExact() {
   const environment = page.scene.browser.environment;
   return Boolean(environment && !environment.fast);
+}
+function stillFromServer() {
+  return !SITE && notExact();
 }
 
 // How long the controls rest before the still frame is drawn or asked for (the server's SETTLE,
@@ -129,6 +133,8 @@ function drawInBrowser(motion) {
   if (stillFromServer()) {
     $("status").textContent = `rendered by your browser (WebGL2), the environment's fast mode, ${size}, ${rate} frames/s; the exact image from the server once the controls rest`;
     if (!missing && !motion) askServerStill();
+  } else if (notExact()) {
+    $("status").textContent = `rendered by your browser (WebGL2), the environment's fast mode, ${size}, ${rate} frames/s; the exact image is vk-render render's`;
   } else {
     $("status").textContent = motion
       ? `moving: rendered by your browser (WebGL2), ${size}, ${rate} frames/s`
@@ -156,8 +162,15 @@ function browserPixels() {
   return page.browser.pixels();
 }
 
-// The server renders this scene's frames, for `why`.
+// The server renders this scene's frames, for `why`; a folder of vk-render site has none, and says so.
 function useServer(why) {
+  if (SITE) {
+    page.mode = "none";
+    $("gl").hidden = true;
+    $("frame").hidden = false;
+    $("status").textContent = `this page cannot draw it: ${why}; vk-render render and vk-render serve can`;
+    return;
+  }
   page.mode = "server";
   page.serverReason = why;
   $("gl").hidden = true;
@@ -308,6 +321,12 @@ function materialControls() {
       box.append(control(parameter, null, parameter.name));
     }
   }
+  // Under an environment the fast mode reads the material's albedo table, which the server makes as the
+  // material moves; a folder of vk-render site holds the scene's own.
+  if (SITE && page.scene.browser.environment && material.parameters.length > 0) {
+    box.querySelectorAll("input").forEach((input) => { input.disabled = true; });
+    box.append(el("p", { class: "muted", text: "under an environment, the material moves on vk-render serve (its albedo table is the server's)" }));
+  }
 }
 
 function lightControls() {
@@ -379,6 +398,7 @@ function studiedState() {
 
 // The lobe and the albedo of the selected object's material with the current overrides, unless shown.
 async function studies() {
+  if (SITE) return;  // the lobe and the albedo are the server's
   const body = studiedState();
   if (!body || JSON.stringify(body) === studied) return;
   studied = JSON.stringify(body);
@@ -402,6 +422,7 @@ async function studies() {
 
 function chooseScene(id) {
   page.scene = page.scenes.find((s) => s.id === id) || page.scenes[0];
+  $("scene").value = page.scene.id;
   page.set = {};
   const objects = $("object");
   objects.replaceChildren(...page.scene.objects.map((o) => el("option", { value: String(o.index), text: `${o.index}: ${o.shape} (${o.material})` })));
@@ -425,7 +446,7 @@ async function download() {
 
 async function start() {
   try {
-    page.scenes = await getJson("/api/scenes");
+    page.scenes = await getJson(dataUrl("scenes"));
   } catch (error) {
     showError(error.message);
     return;

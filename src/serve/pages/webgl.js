@@ -124,7 +124,7 @@ const TEXTURE_UNITS = { shadow_maps: 0, measured_tables: 1, environment_map: 2, 
 
 // Where the server hands out the mesh of `scene`'s object `index` (the key its vertex array is kept by).
 // (`motion`: its lighter mesh, for the motion frames).
-const meshUrl = (scene, index, motion) => `/api/mesh?scene=${encodeURIComponent(scene.id)}&object=${index}${motion ? "&motion=true" : ""}`;
+const meshUrl = (scene, index, motion) => dataUrl("mesh", scene, motion ? { object: index, motion: true } : { object: index });
 
 class BrowserRenderer {
   // A renderer on `canvas`, or null with the reason when the browser cannot (no WebGL2, no float targets).
@@ -132,7 +132,7 @@ class BrowserRenderer {
     const gl = canvas.getContext("webgl2", { antialias: false, depth: false, alpha: false, preserveDrawingBuffer: false });
     if (!gl) return { renderer: null, reason: "this browser has no WebGL2" };
     if (!gl.getExtension("EXT_color_buffer_float")) return { renderer: null, reason: "this browser's WebGL2 cannot render to float targets" };
-    const shaders = await getJson("/static/shaders.json");
+    const shaders = await getJson("static/shaders.json");
     const renderer = new BrowserRenderer(gl, shaders);
     // An environment's map and layers are read with linear filtering, as the renderer's sampler reads them.
     renderer.filtersFloats = Boolean(gl.getExtension("OES_texture_float_linear"));
@@ -246,7 +246,7 @@ class BrowserRenderer {
     if (!this.filtersFloats) throw new Error("this browser's WebGL2 cannot filter float textures (OES_texture_float_linear)");
     const gl = this.gl;
     if (!this.environment || this.environment.scene !== scene.id) {
-      const url = `/api/environment?scene=${encodeURIComponent(scene.id)}`;
+      const url = dataUrl("environment", scene);
       const response = await fetch(url);
       if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
       const bytes = await response.arrayBuffer();
@@ -288,9 +288,7 @@ class BrowserRenderer {
       const held = this.albedoTables.get(name) || { key: null, table: null, asked: null };
       if (held.key === key) continue;
       if (!held.asked || held.asked.key !== key) {
-        const body = JSON.stringify({ scene: scene.id, material: name, set });
-        const promise = fetch("/api/environment-albedo", { method: "POST", body }).then(async (response) => {
-          if (!response.ok) throw new Error(`/api/environment-albedo: ${(await response.text()).trim()}`);
+        const promise = this.fetchAlbedo(scene, name, set).then(async (response) => {
           const now = this.albedoTables.get(name);
           Object.assign(now, { key, table: new Float32Array((await response.json()).table) });
           if (now.asked && now.asked.key === key) now.asked = null;
@@ -301,6 +299,24 @@ class BrowserRenderer {
       pending.push(held.asked.promise);
     }
     return pending.length ? Promise.all(pending) : null;
+  }
+
+  // Material `name`'s albedo table in `set`'s state: the server's (POST /api/environment-albedo); in a folder
+  // of vk-render site, the one it wrote of the scene's own values, which is all it has.
+  async fetchAlbedo(scene, name, set) {
+    let url = "/api/environment-albedo";
+    let response;
+    if (SITE) {
+      if (Object.keys(set).some((key) => key.startsWith(`material.${name}.`))) {
+        throw new Error("a moved material's albedo table is the server's (vk-render serve)");
+      }
+      url = dataUrl("environment-albedo", scene, { material: name });
+      response = await fetch(url);
+    } else {
+      response = await fetch(url, { method: "POST", body: JSON.stringify({ scene: scene.id, material: name, set }) });
+    }
+    if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
+    return response;
   }
 
   // Every object's albedo table (the latest its material has), each at its aligned place in one buffer.
@@ -320,7 +336,7 @@ class BrowserRenderer {
   async loadAnalytic(scene) {
     for (const [name, material] of Object.entries(scene.browser.materials)) {
       if (!material.analytic_values || this.shaders[`forward.frag${analyticSuffix(scene, name)}`]) continue;
-      const url = `/api/analytic?scene=${encodeURIComponent(scene.id)}&material=${encodeURIComponent(name)}`;
+      const url = dataUrl("analytic", scene, { material: name });
       const response = await fetch(url);
       if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
       for (const [entry, text] of Object.entries(await response.json())) this.shaders[entry + analyticSuffix(scene, name)] = text;
@@ -341,7 +357,7 @@ class BrowserRenderer {
     }
     const tables = [];
     for (const name of names) {
-      const url = `/api/measured?scene=${encodeURIComponent(scene.id)}&material=${encodeURIComponent(name)}`;
+      const url = dataUrl("measured", scene, { material: name });
       const response = await fetch(url);
       if (!response.ok) throw new Error(`${url}: ${(await response.text()).trim()}`);
       tables.push(new Float32Array(await response.arrayBuffer()));
