@@ -80,8 +80,8 @@ fn shipped(file: &str, params: &[(&str, ParameterValue)]) -> Brdf {
 
 #[test]
 fn every_shipped_sampler_passes_from_sharp_to_rough() {
-    // GGX's visible normals (Walter et al.'s model), Ward's half vectors (Walter 2005), Ashikhmin and
-    // Shirley's and the Disney BRDF's lobes, sharp to rough, over a diffuse base, isotropic and anisotropic both ways, at every view and,
+    // GGX's visible normals (Walter et al.'s model), Ward's half vectors (Walter 2005), Lafortune's cosine
+    // lobes, Ashikhmin and Shirley's and the Disney BRDF's lobes, sharp to rough, over a diffuse base, isotropic and anisotropic both ways, at every view and,
     // where the model is anisotropic, every azimuth.
     let float = ParameterValue::Float;
     let grey = |v: f32| ParameterValue::Color(Vec3::splat(v));
@@ -96,6 +96,12 @@ fn every_shipped_sampler_passes_from_sharp_to_rough() {
     for (nu, nv) in [(1.0, 1.0), (100.0, 100.0), (20.0, 800.0), (1e4, 1e4)] {
         let params = [("nu", float(nu)), ("nv", float(nv)), ("Rd", grey(0.3)), ("Rs", grey(0.3))];
         brdfs.push(shipped("ashikhmin_shirley.brdf", &params));
+    }
+    // Lafortune's generalized cosine lobe about its own axis: the sharpest modified Phong lobe, off-specular
+    // towards grazing (Cxy -0.7), and about the normal (Cxy 0).
+    for (cxy, n) in [(-1.0, 2000.0), (-0.7, 60.0), (0.0, 20.0)] {
+        let params = [("Cxy", float(cxy)), ("n", float(n)), ("rho_d", grey(0.3)), ("rho_s", grey(0.3))];
+        brdfs.push(shipped("lafortune.brdf", &params));
     }
     // The Disney BRDF by its lobes: its defaults, an anisotropic metal, a sharp clearcoat over a sharp lobe,
     // the roughest metal.
