@@ -315,7 +315,7 @@ pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -
 
 /// Object `object`'s mesh of scene `id` as `GET /api/mesh` hands it out (an OBJ read from disk), or its
 /// lighter mesh of the motion frames.
-pub fn mesh_file(id: &str, scene: &Scene, object: usize, motion: bool) -> Result<Vec<u8>, ApiError> {
+fn mesh_file(id: &str, scene: &Scene, object: usize, motion: bool) -> Result<Vec<u8>, ApiError> {
     let placed = vk_render::mesh::place_objects(scene).map_err(|e| ApiError::from_library(&e))?;
     let mesh = &placed[object].mesh;
     if !motion {
@@ -328,7 +328,7 @@ pub fn mesh_file(id: &str, scene: &Scene, object: usize, motion: bool) -> Result
 }
 
 /// A mesh as `GET /api/mesh` hands it out.
-fn mesh_bytes(mesh: &Mesh) -> Vec<u8> {
+pub fn mesh_bytes(mesh: &Mesh) -> Vec<u8> {
     let mut bytes = Vec::with_capacity(8 + mesh.vertices.len() * 40 + mesh.indices.len() * 4);
     bytes.extend((mesh.vertices.len() as u32).to_le_bytes());
     bytes.extend((mesh.indices.len() as u32).to_le_bytes());

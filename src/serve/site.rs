@@ -13,6 +13,7 @@ use clap::Args;
 use serde_json::{json, Value as Json};
 
 use vk_render::brdf::Brdf;
+use vk_render::mesh::motion::motion_mesh;
 use vk_render::{Renderer, RendererOptions};
 
 use super::catalogue::{Catalogue, Entry};
@@ -112,11 +113,13 @@ fn write(folder: &Path, catalogue: &Catalogue, options: RendererOptions) -> anyh
             entry.scene.materials.keys().enumerate().map(|(k, name)| (name.clone(), json!(k))).collect();
         described["site"] = json!({ "materials": numbers });
         let data = format!("data/{}/", entry.id);
-        for object in 0..entry.scene.objects.len() {
-            let mesh = browser::mesh_file(&entry.id, &entry.scene, object, false).map_err(|e| failed(entry, e))?;
-            put(folder, &format!("{data}mesh-{object}.bin"), &mesh)?;
-            if let Ok(motion) = browser::mesh_file(&entry.id, &entry.scene, object, true) {
-                put(folder, &format!("{data}mesh-{object}-motion.bin"), &motion)?;
+        // The objects placed once (an OBJ read once), each mesh and its lighter one where it has one.
+        let placed =
+            vk_render::mesh::place_objects(&entry.scene).map_err(|e| failed(entry, ApiError::from_library(&e)))?;
+        for (object, placed) in placed.iter().enumerate() {
+            put(folder, &format!("{data}mesh-{object}.bin"), &browser::mesh_bytes(&placed.mesh))?;
+            if let Some(light) = motion_mesh(&placed.mesh) {
+                put(folder, &format!("{data}mesh-{object}-motion.bin"), &browser::mesh_bytes(&light))?;
             }
         }
         for (k, brdf) in entry.scene.materials.values().enumerate() {

@@ -24,10 +24,12 @@ function dataUrl(kind, scene, query = {}) {
   }
 }
 
-// What only the server does is hidden in a folder of vk-render site, and what only such a folder says shown.
+// In a folder of vk-render site, what only the server does is hidden and what only such a folder says is
+// shown (the pages hide it, for the server).
 document.addEventListener("DOMContentLoaded", () => {
-  document.querySelectorAll(SITE ? "[data-server-only]" : "[data-site-only]").forEach((e) => { e.hidden = true; });
-  if (SITE) document.querySelectorAll("[data-site-only]").forEach((e) => { e.hidden = false; });
+  if (!SITE) return;
+  document.querySelectorAll("[data-server-only]").forEach((e) => { e.hidden = true; });
+  document.querySelectorAll("[data-site-only]").forEach((e) => { e.hidden = false; });
 });
 
 // A POST of JSON to the API; the answer as a Blob, or an Error with the server's one line.
