@@ -22,6 +22,7 @@ all: render
 setup:
 	@scripts/install-packages.sh $(RUNTIME_PACKAGES) $(PREVIEW_PACKAGES) $(BUILD_PACKAGES)
 	@command -v $(CARGO) >/dev/null || { echo "cargo is missing: install Rust from https://rustup.rs" >&2; exit 1; }
+	@scripts/install-wasm-target.sh
 
 ## setup-test: also the Khronos validation layer, which every rendering test turns on
 setup-test: setup

@@ -31,7 +31,48 @@ fn main() {
     embed_shaders();
     compile_shaders();
     translate_for_webgl();
+    if std::env::var_os("CARGO_FEATURE_SERVE").is_some() {
+        build_web_assembly();
+    }
     link_glslang_and_spirv_tools();
+}
+
+/// Builds the crate web/ (the library's code the pages run: a student's `.brdf` read and wrapped for WebGL2)
+/// for wasm32-unknown-unknown into `$OUT_DIR/vk-render.wasm`, which the server and `vk-render site` hand out
+/// as `static/vk-render.wasm`. A cargo of its own, with its own target folder under OUT_DIR (this build's
+/// holds its lock), offline and locked: the crates it uses are this build's.
+fn build_web_assembly() {
+    for folder in ["web", "crates/brdf-file"] {
+        println!("cargo:rerun-if-changed={folder}");
+    }
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("web/Cargo.toml");
+    let target = "wasm32-unknown-unknown";
+    let mut command = Command::new(&cargo);
+    command
+        .args(["build", "--release", "--offline", "--locked", "--target", target, "--manifest-path"])
+        .arg(&manifest)
+        .arg("--target-dir")
+        .arg(out.join("wasm-target"))
+        // This build's flags are for this machine's code, not the WebAssembly's.
+        .env_remove("RUSTFLAGS")
+        .env_remove("CARGO_ENCODED_RUSTFLAGS")
+        .env_remove("CARGO_BUILD_TARGET")
+        .env("CARGO_PROFILE_RELEASE_STRIP", "true");
+    let output = command.output().unwrap_or_else(|e| panic!("cannot run {cargo} to build web/ ({e})"));
+    if !output.status.success() {
+        let said = String::from_utf8_lossy(&output.stderr);
+        let hint =
+            if said.contains(target) && said.contains("not installed") || said.contains("can't find crate for `std`") {
+                format!("\nthe Rust target {target} is missing: `rustup target add {target}` (`make setup` does)")
+            } else {
+                String::new()
+            };
+        panic!("the WebAssembly of web/ did not build:\n{said}{hint}");
+    }
+    let built = out.join(format!("wasm-target/{target}/release/vk_render_web.wasm"));
+    std::fs::copy(&built, out.join("vk-render.wasm")).unwrap_or_else(|e| panic!("{}: {e}", built.display()));
 }
 
 /// Finds each archive of [`ARCHIVES`] in the library folders that pkg-config and the C compiler name, and
@@ -165,7 +206,8 @@ fn compile_shaders() {
 }
 
 /// Writes `$OUT_DIR/webgl.rs`: the browser's shaders (build/webgl.rs translates them), a table of each entry
-/// file's name and its GLSL ES 3.00; a shader the translation cannot take stops the build here, with the
+/// file's name and its GLSL ES 3.00, and `$OUT_DIR/webgl_templates.rs`: the analytic templates of the browser's
+/// editor of `.brdf` models, likewise; a shader the translation cannot take stops the build here, with the
 /// tool's errors above, never in a visitor's browser.
 fn translate_for_webgl() {
     println!("cargo:rerun-if-changed=build/webgl.rs");
@@ -174,10 +216,17 @@ fn translate_for_webgl() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR")).join("webgl");
     let translated = webgl::translate(&root, &out, true).unwrap_or_else(|e| panic!("{e}"));
+    std::fs::write(out.with_extension("rs"), text_table(&translated)).expect("OUT_DIR is writable");
+    let templates = webgl::translate_templates(&root, &out, true).unwrap_or_else(|e| panic!("{e}"));
+    std::fs::write(out.with_file_name("webgl_templates.rs"), text_table(&templates)).expect("OUT_DIR is writable");
+}
+
+/// The source of a table of names and the texts of their files.
+fn text_table(files: &[(String, PathBuf)]) -> String {
     let mut table = String::from("&[\n");
-    for (entry, file) in translated {
-        table.push_str(&format!("    ({entry:?}, include_str!({:?})),\n", file.display().to_string()));
+    for (name, file) in files {
+        table.push_str(&format!("    ({name:?}, include_str!({:?})),\n", file.display().to_string()));
     }
     table.push_str("]\n");
-    std::fs::write(out.with_extension("rs"), table).expect("OUT_DIR is writable");
+    table
 }

@@ -12,6 +12,23 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// The entries that evaluate a material's BRDF in the browser's passes: the forward passes. An analytic
+/// model's are translated with it: on the server per `.brdf` file (src/webgl.rs), and at build time as
+/// templates for the browser's own editor ([`translate_templates`]).
+pub const ANALYTIC_ENTRIES: [&str; 2] = ["forward.frag", "forward_sphere.frag"];
+
+/// The line of an analytic template that a model's GLSL ES replaces (`brdf_file::wrap` for WebGL: the
+/// browser's editor runs it as WebAssembly), where the stand-in's `analytic_brdf` was.
+pub const TEMPLATE_HOOK: &str = "// ANALYTIC_BRDF_HOOK";
+
+/// The stand-in model the templates are translated with: `brdf/analytic.glsl` with only `analytic_brdf`,
+/// which reads the parameter values and sets `analytic_stopped`, so that SPIRV-Cross keeps both (and the
+/// block) for the model that takes its place.
+const STAND_IN_MODEL: &str =
+    "#ifndef BRDF_ANALYTIC_GLSL\n#define BRDF_ANALYTIC_GLSL\nvec3 analytic_brdf(uint first, vec3 n, \
+                              vec3 t, vec3 wi, vec3 wo) {\n    analytic_stopped = false;\n    return \
+                              vec3(analytic_parameter(first));\n}\n#endif\n";
+
 /// The interface locations between stages that the translation renames (see [`translate`]): more than any
 /// entry uses.
 const INTERFACE_LOCATIONS: u32 = 8;
@@ -48,7 +65,8 @@ pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String,
         for variant in std::iter::once(None).chain(variants(&text).map(Some)) {
             let macros: Vec<&str> = variant.iter().flat_map(|v| v.split('+')).collect();
             let entry = variant.map_or(relative.clone(), |v| format!("{relative}+{v}"));
-            translated.push((entry.clone(), translate_one(root, out, &relative, &entry, &macros, validate, &tools)?));
+            let es = translate_one(root, out, &relative, &entry, &macros, None, validate, &tools)?;
+            translated.push((entry, es));
         }
     }
     Ok(translated)
@@ -58,7 +76,8 @@ pub fn translate(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String,
 pub struct Tools {
     glslc: String,
     spirv_cross: String,
-    validator: String,
+    /// glslangValidator's name (the tests check texts with it too).
+    pub validator: String,
 }
 
 impl Tools {
@@ -73,13 +92,72 @@ impl Tools {
     }
 }
 
-/// Entry `relative` compiled with WEBGL and `macros` defined, translated and checked: its GLSL ES file.
+/// The analytic templates of the browser's editor: each of [`ANALYTIC_ENTRIES`] and its variants but the
+/// environment's (a model's fast mode under an environment needs its albedo table, which only the server
+/// makes), compiled with WEBGL, ANALYTIC_BRDF and the stand-in model, translated and checked, then its
+/// `analytic_brdf` cut out for [`TEMPLATE_HOOK`], followed by a `#line` that gives the lines after it their own
+/// numbers again (GLSL ES: the next line's number and source string 0), whatever the model's text holds. Each
+/// entry's name (`forward.frag+TERM_VIEWS`) with its template's file.
+pub fn translate_templates(root: &Path, out: &Path, validate: bool) -> Result<Vec<(String, PathBuf)>, String> {
+    let tools = Tools::from_environment();
+    let includes = out.join("stand-in");
+    let stand_in = includes.join("brdf/analytic.glsl");
+    std::fs::create_dir_all(includes.join("brdf")).map_err(|e| format!("{}: {e}", includes.display()))?;
+    std::fs::write(&stand_in, STAND_IN_MODEL).map_err(|e| format!("{}: {e}", stand_in.display()))?;
+    let mut templates = Vec::new();
+    for relative in ANALYTIC_ENTRIES {
+        let file = root.join(relative);
+        let text = std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+        let variants = variants(&text).filter(|v| !v.split('+').any(|m| m == "WITH_ENVIRONMENT"));
+        for variant in std::iter::once(None).chain(variants.map(Some)) {
+            let mut macros: Vec<&str> = variant.iter().flat_map(|v| v.split('+')).collect();
+            macros.push("ANALYTIC_BRDF");
+            let entry = variant.map_or(relative.to_string(), |v| format!("{relative}+{v}"));
+            let es = translate_one(
+                root,
+                out,
+                relative,
+                &format!("{entry}+ANALYTIC_BRDF"),
+                &macros,
+                Some(&includes),
+                validate,
+                &tools,
+            )?;
+            let translated = std::fs::read_to_string(&es).map_err(|e| format!("{}: {e}", es.display()))?;
+            let template = out.join(format!("{entry}.template.es.frag"));
+            let cut = cut_stand_in(&translated)
+                .ok_or_else(|| format!("the translation of shaders/{entry} has no `analytic_brdf` to cut"))?;
+            std::fs::write(&template, cut).map_err(|e| format!("{}: {e}", template.display()))?;
+            templates.push((entry, template));
+        }
+    }
+    Ok(templates)
+}
+
+/// `es` with the stand-in's `analytic_brdf` (its first line to the `}` that closes it) replaced by
+/// [`TEMPLATE_HOOK`] and a `#line` directive; `None` where it has none.
+fn cut_stand_in(es: &str) -> Option<String> {
+    let lines: Vec<&str> = es.lines().collect();
+    let start = lines.iter().position(|line| line.contains(" analytic_brdf(") && !line.trim_end().ends_with(';'))?;
+    let end = start + lines[start..].iter().position(|line| *line == "}")?;
+    let mut out: Vec<String> = lines[..start].iter().map(|l| l.to_string()).collect();
+    out.push(TEMPLATE_HOOK.to_string());
+    // The directive is line start + 2 (from 1); the line after it is numbered start + 3 in the template.
+    out.push(format!("#line {} 0", start + 3));
+    out.extend(lines[end + 1..].iter().map(|l| l.to_string()));
+    Some(out.join("\n") + "\n")
+}
+
+/// Entry `relative` compiled with WEBGL and `macros` defined (and `includes` searched after shaders/),
+/// translated and checked: its GLSL ES file.
+#[allow(clippy::too_many_arguments)]
 fn translate_one(
     root: &Path,
     out: &Path,
     relative: &str,
     entry: &str,
     macros: &[&str],
+    includes: Option<&Path>,
     validate: bool,
     tools: &Tools,
 ) -> Result<PathBuf, String> {
@@ -92,6 +170,9 @@ fn translate_one(
     let mut compile = Command::new(&tools.glslc);
     compile.current_dir(root).args(GLSLC_OPTIONS).arg("-DWEBGL");
     compile.args(macros.iter().map(|m| format!("-D{m}")));
+    if let Some(folder) = includes {
+        compile.arg("-I").arg(folder);
+    }
     run(
         compile.arg("-o").arg(&spirv).arg(relative),
         &format!("glslc could not compile shaders/{entry} with WEBGL defined"),

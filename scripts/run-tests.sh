@@ -33,10 +33,13 @@ longest_first=(tests/sampling.rs tests/environment.rs tests/serve_browser.rs tes
 
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
+# The packages with tests: vk-render, and the crates the browser runs as WebAssembly (whose tests run here,
+# natively). The Python binding's are pytest's.
+packages=(-p vk-render -p vk-render-brdf-file -p vk-render-web)
 
 # Every test harness cargo builds (the library's, the binary's, each tests/*.rs), as Cargo's JSON lists them:
 # its source file, as `cargo test` names it (tests/environment.rs), a tab, and its executable.
-"$cargo" test "$@" --no-run --message-format=json-render-diagnostics >"$logs/build.json"
+"$cargo" test "$@" "${packages[@]}" --no-run --message-format=json-render-diagnostics >"$logs/build.json"
 mapfile -t built < <(grep '"profile":{[^}]*"test":true' "$logs/build.json" |
     sed -n 's|.*"src_path":"\([^"]*\)".*"executable":"\([^"]*\)".*|\1\t\2|p' | sed "s|^$project/||")
 [ ${#built[@]} -gt 0 ] || { echo "cargo built no test binary" >&2; exit 1; }
@@ -108,4 +111,4 @@ if [ "${VK_RENDER_TEST_PYTHON:-0}" = 1 ]; then
     PYTEST_ADDOPTS= scripts/test-python.sh -m alone
 fi
 
-"$cargo" test "$@" --doc
+"$cargo" test "$@" "${packages[@]}" --doc

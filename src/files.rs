@@ -13,13 +13,9 @@ pub const MAX_IMAGE_BYTES: u64 = 1 << 30;
 /// The most a shader source may hold: 1 MiB.
 pub const MAX_SHADER_BYTES: u64 = 1 << 20;
 
-/// At most the first 40 characters of `text`, for messages that quote what the user gave.
-pub fn shortened(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((end, _)) => format!("{}... ({} characters)", &text[..end], text.chars().count()),
-        None => text.to_string(),
-    }
-}
+/// At most the first 40 characters of `text`, for messages that quote what the user gave (the `.brdf` reader's,
+/// which the browser runs too).
+pub use brdf_file::shortened;
 
 /// The bytes of `path`, `what` it is (named in errors: "scene file", "OBJ file"), which must be a regular
 /// file of at most `limit` bytes. The kind is checked before the file is opened (opening a FIFO waits

@@ -13,8 +13,13 @@ use crate::brdf::AnalyticModel;
 use crate::error::{Error, Result};
 use crate::vulkan::{ShaderCompiler, ShaderSources};
 
-/// The entries that evaluate a material's BRDF in the browser's passes: the forward passes.
-pub const ANALYTIC_ENTRIES: [&str; 2] = ["forward.frag", "forward_sphere.frag"];
+pub use translation::{ANALYTIC_ENTRIES, TEMPLATE_HOOK};
+
+/// The analytic templates of the browser's editor, by entry (`forward.frag+TERM_VIEWS`): the entry's GLSL ES
+/// with [`TEMPLATE_HOOK`] where a model's goes (translated by build.rs: [`translation::translate_templates`]).
+/// The page puts a student's model there, wrapped by the same code as the renderer's (`brdf_file::wrap` for
+/// WebGL, run as WebAssembly), and its browser compiles it.
+pub const ANALYTIC_TEMPLATES: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/webgl_templates.rs"));
 
 /// `model`'s browser shaders: each of [`ANALYTIC_ENTRIES`] and its variants (as
 /// [`translation::translate`] translates them), by entry name (`forward.frag+TERM_VIEWS`), compiled from `sources`
@@ -66,5 +71,37 @@ impl Scratch {
 impl Drop for Scratch {
     fn drop(&mut self) {
         let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every shipped `.brdf` model wrapped for WebGL and put into every template is valid GLSL ES 3.00
+    /// (glslangValidator), its lines numbered as the file's (source string 1); a model that uses a name it
+    /// never declared is refused at its own line.
+    #[test]
+    fn every_shipped_model_in_every_template_is_valid_glsl_es() {
+        let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brdfs");
+        let scratch = Scratch::new().unwrap();
+        let tools = translation::Tools::from_environment();
+        assert_eq!(ANALYTIC_TEMPLATES.len(), 4, "forward and forward_sphere, each with its term views");
+        let mut files: Vec<_> = std::fs::read_dir(&folder).unwrap().map(|e| e.unwrap().path()).collect();
+        files.sort();
+        for path in files {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let file = brdf_file::parse(&text).unwrap();
+            let glsl =
+                brdf_file::wrap(&file.parameters, &file.shader, &file.sampler, brdf_file::Target::WebGl).unwrap();
+            for (entry, template) in ANALYTIC_TEMPLATES {
+                assert_eq!(template.matches(TEMPLATE_HOOK).count(), 1, "{entry}");
+                let es = scratch.0.join("model.frag");
+                std::fs::write(&es, template.replace(TEMPLATE_HOOK, &glsl)).unwrap();
+                let status = std::process::Command::new(&tools.validator).arg(&es).output().unwrap();
+                let said = String::from_utf8_lossy(&status.stdout);
+                assert!(status.status.success(), "{} in {entry}: {said}", path.display());
+            }
+        }
     }
 }

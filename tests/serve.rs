@@ -198,7 +198,7 @@ fn every_route_answers_as_the_command_line_does() {
         assert_eq!(answer.status, 200, "{page}");
         let policy = answer.header("content-security-policy").unwrap_or_default();
         assert!(
-            policy.contains("script-src 'self'")
+            policy.contains("script-src 'self' 'wasm-unsafe-eval'")
                 && !policy.contains("unsafe-inline")
                 && policy.contains("frame-ancestors 'none'"),
             "{page}: {policy}"
@@ -771,12 +771,26 @@ fn the_site_is_the_servers_pages_and_its_data_as_files() {
     assert!(written.status.success(), "{}", String::from_utf8_lossy(&written.stderr));
     // The server's own pages and scripts, byte for byte, site.js aside.
     let server = Server::local();
-    for (file, path) in
-        [("explore.html", "/explore"), ("check.html", "/check"), ("static/webgl.js", "/static/webgl.js")]
-    {
+    for (file, path) in [
+        ("explore.html", "/explore"),
+        ("check.html", "/check"),
+        ("static/webgl.js", "/static/webgl.js"),
+        ("static/editor.js", "/static/editor.js"),
+        ("static/brdf-templates.json", "/static/brdf-templates.json"),
+        ("static/vk-render.wasm", "/static/vk-render.wasm"),
+    ] {
         let served = server.get(path);
         assert_eq!(std::fs::read(site.join(file)).unwrap(), served.body, "{file}");
     }
+    // The editor's WebAssembly is one (its magic number), the templates one per analytic forward entry.
+    assert!(std::fs::read(site.join("static/vk-render.wasm")).unwrap().starts_with(b"\0asm"));
+    let templates: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(site.join("static/brdf-templates.json")).unwrap()).unwrap();
+    let entries: Vec<&String> = templates.as_object().unwrap().keys().collect();
+    assert_eq!(
+        entries,
+        ["forward.frag", "forward.frag+TERM_VIEWS", "forward_sphere.frag", "forward_sphere.frag+TERM_VIEWS"]
+    );
     // The scene list as the API answers it, each scene numbering its materials for their files.
     let scenes: serde_json::Value =
         serde_json::from_slice(&std::fs::read(site.join("data/scenes.json")).unwrap()).unwrap();

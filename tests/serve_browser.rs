@@ -7,6 +7,8 @@
 //! pictures of docs/serve.md).
 
 mod common;
+#[path = "serve_browser/editor.rs"]
+mod editor;
 
 use std::path::Path;
 use std::time::Duration;
@@ -167,6 +169,11 @@ fn browser_frame(browser: &Browser, id: &str, set: &Value) -> image::RgbImage {
         "page.browser.shadowKey = null; chooseScene(arguments[0]); Object.assign(page.set, arguments[1]);",
         &[json!(id), set.clone()],
     );
+    drawn_frame(browser, id)
+}
+
+/// The browser's frame of the page's latest state once drawn (its scene `id`): its pixels, read back.
+fn drawn_frame(browser: &Browser, id: &str) -> image::RgbImage {
     browser.wait_for(
         &format!("{id} drawn by the browser"),
         "const c = document.getElementById('gl'); return page.mode === 'browser' && c.dataset.scene === page.scene.id && c.dataset.state === String(page.sent);",
@@ -580,12 +587,13 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
         save_screenshot(&browser, &format!("serve-explore-{name}.png"));
     }
     assert_console_clean(&browser, "explore, every screen");
+    browser.resize(1500, 1000);
+    editor::the_students_own_brdf(&browser, &format!("{base}/explore.html"), folder.path(), false);
 
     // The same explorer as a static folder (`vk-render site`), served by Python's http.server from a sub-path,
     // the server stopped: the browser's frames are `vk-render render`'s within the same bound.
     let (code, stderr, _) = server.terminate(Duration::from_secs(30));
     assert_eq!(code, Some(0), "{stderr}");
-    browser.resize(1500, 1000);
     let site = folder.path().join("public/course");
     let written = common::vk_render(&[
         "site",
@@ -648,6 +656,12 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     );
     assert_eq!(check, json!([true, false]), "the site's check page: {check}");
     assert_console_clean(&browser, "the site");
+    editor::the_students_own_brdf(
+        &browser,
+        &format!("http://{}/course/explore.html", http.address),
+        folder.path(),
+        true,
+    );
     drop(browser);
 }
 

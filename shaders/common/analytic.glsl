@@ -2,7 +2,7 @@
 #define COMMON_ANALYTIC_GLSL
 
 // Analytic models (users' .brdf files, src/brdf/analytic/): their materials' values, and a report of the
-// values no BRDF may give. brdf/analytic.glsl is made from the file at run time (src/brdf/analytic/glsl.rs):
+// values no BRDF may give. brdf/analytic.glsl is made from the file at run time (crates/brdf-file/src/glsl.rs):
 // the file's parameters as globals, its shader, and analytic_brdf(first, n, t, wi, wo). Mirrored by
 // src/render/analytic.rs.
 
@@ -17,6 +17,10 @@
 const uint ANALYTIC_VALUE_VECTORS = 1024u;
 layout(set = 0, binding = ANALYTIC_BINDING, std140) uniform AnalyticParameters { vec4 analytic_values[ANALYTIC_VALUE_VECTORS]; };
 float analytic_parameter(uint k) { return analytic_values[k / 4u][k % 4u]; }
+// Whether the model's loops ran past their bound in its last evaluation: the browser's editor guards every
+// loop of a student's file (brdf_file's WebGL wrapper), since one that never ends would hang the browser's
+// GPU, and every page on it.
+bool analytic_stopped;
 #else
 layout(set = 0, binding = ANALYTIC_BINDING, std430) readonly buffer AnalyticParameters { float analytic_parameters[]; };
 float analytic_parameter(uint k) { return analytic_parameters[k]; }

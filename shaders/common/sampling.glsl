@@ -119,7 +119,7 @@ bool has_lobe(Material m) {
 }
 
 // Whether the material has a sampler of its own, beside the cosine: a specular lobe, a .brdf file's
-// isFunc section (its sampleBRDF and pdfBRDF, src/brdf/analytic/glsl.rs), or a measured table's
+// isFunc section (its sampleBRDF and pdfBRDF, crates/brdf-file/src/glsl.rs), or a measured table's
 // (brdf/measured_sampler.glsl) unless the scene turned it off.
 bool has_sampler(Material m) {
 #ifdef ANALYTIC_HAS_SAMPLER

@@ -35,16 +35,34 @@ const SHADERS: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/webgl.rs"))
 
 /// `GET /static/shaders.json`: every translated shader by its entry file's name, one JSON object.
 pub async fn shaders() -> Response {
-    ([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "no-cache")], shaders_file()).into_response()
+    json_file(shaders_file())
 }
 
 /// Every translated shader by its entry file's name, one JSON object, as `GET /static/shaders.json` hands it out.
 pub fn shaders_file() -> &'static str {
-    static TEXT: LazyLock<String> = LazyLock::new(|| {
-        let table: BTreeMap<&str, &str> = SHADERS.iter().copied().collect();
-        serde_json::to_string(&table).unwrap_or_default()
-    });
+    static TEXT: LazyLock<String> = LazyLock::new(|| table_json(SHADERS));
     TEXT.as_str()
+}
+
+/// `GET /static/brdf-templates.json`: the analytic templates of the editor, by entry, one JSON object (fetched
+/// when a student's model is first compiled: most visits never need it).
+pub async fn templates() -> Response {
+    json_file(templates_file())
+}
+
+/// The analytic templates by entry, as `GET /static/brdf-templates.json` hands them out.
+pub fn templates_file() -> &'static str {
+    static TEXT: LazyLock<String> = LazyLock::new(|| table_json(vk_render::webgl::ANALYTIC_TEMPLATES));
+    TEXT.as_str()
+}
+
+fn table_json(table: &[(&str, &str)]) -> String {
+    let table: BTreeMap<&str, &str> = table.iter().copied().collect();
+    serde_json::to_string(&table).unwrap_or_default()
+}
+
+fn json_file(text: &'static str) -> Response {
+    ([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "no-cache")], text).into_response()
 }
 
 /// A scene as the browser draws it (`GET /api/scenes`, each scene's `browser`).

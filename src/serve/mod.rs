@@ -186,6 +186,7 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .route("/reports/{id}", get(pages::report))
         .route("/signin", get(pages::sign_in_query).post(pages::sign_in_form))
         .route("/static/shaders.json", get(browser::shaders))
+        .route("/static/brdf-templates.json", get(browser::templates))
         .route("/static/{name}", get(pages::asset));
     let json_api = Router::new()
         .route("/api/scenes", get(api::scenes))

@@ -12,16 +12,19 @@ use serde::Deserialize;
 use super::auth::{Access, SESSION_COOKIE};
 use super::App;
 
-/// One embedded file: its path under /static/, its type and its bytes.
-const STATIC: &[(&str, &str, &str)] = &[
-    ("style.css", "text/css; charset=utf-8", include_str!("pages/style.css")),
-    ("site.js", "text/javascript; charset=utf-8", include_str!("pages/site.js")),
-    ("common.js", "text/javascript; charset=utf-8", include_str!("pages/common.js")),
-    ("explore.js", "text/javascript; charset=utf-8", include_str!("pages/explore.js")),
-    ("webgl.js", "text/javascript; charset=utf-8", include_str!("pages/webgl.js")),
-    ("check.js", "text/javascript; charset=utf-8", include_str!("pages/check.js")),
-    ("report.js", "text/javascript; charset=utf-8", include_str!("pages/report.js")),
-    ("icon.svg", "image/svg+xml", include_str!("pages/icon.svg")),
+/// One embedded file: its path under /static/, its type and its bytes. `vk-render.wasm` is the library's
+/// code the editor runs (web/, built for WebAssembly by build.rs).
+const STATIC: &[(&str, &str, &[u8])] = &[
+    ("style.css", "text/css; charset=utf-8", include_bytes!("pages/style.css")),
+    ("site.js", "text/javascript; charset=utf-8", include_bytes!("pages/site.js")),
+    ("common.js", "text/javascript; charset=utf-8", include_bytes!("pages/common.js")),
+    ("explore.js", "text/javascript; charset=utf-8", include_bytes!("pages/explore.js")),
+    ("webgl.js", "text/javascript; charset=utf-8", include_bytes!("pages/webgl.js")),
+    ("editor.js", "text/javascript; charset=utf-8", include_bytes!("pages/editor.js")),
+    ("check.js", "text/javascript; charset=utf-8", include_bytes!("pages/check.js")),
+    ("report.js", "text/javascript; charset=utf-8", include_bytes!("pages/report.js")),
+    ("icon.svg", "image/svg+xml", include_bytes!("pages/icon.svg")),
+    ("vk-render.wasm", "application/wasm", include_bytes!(concat!(env!("OUT_DIR"), "/vk-render.wasm"))),
 ];
 
 /// The pages and scripts a folder of `vk-render site` holds, by their paths in it: the same files as the
@@ -32,7 +35,7 @@ pub fn site_files() -> impl Iterator<Item = (String, &'static [u8])> {
     pages
         .into_iter()
         .map(|(name, text)| (name.to_string(), text.as_bytes()))
-        .chain(scripts.map(|(name, _, text)| (format!("static/{name}"), text.as_bytes())))
+        .chain(scripts.map(|(name, _, bytes)| (format!("static/{name}"), *bytes)))
 }
 
 const INDEX: &str = include_str!("pages/index.html");
@@ -42,8 +45,11 @@ const REPORT: &str = include_str!("pages/report.html");
 const SIGN_IN: &str = include_str!("pages/signin.html");
 
 /// The Content-Security-Policy of every answer: nothing but this server's own scripts, styles and
-/// connections (no inline script), pictures also from blobs the pages make, never inside another site's frame.
-pub const CONTENT_SECURITY_POLICY: &str = "default-src 'none'; script-src 'self'; style-src 'self'; \
+/// connections (no inline script; WebAssembly compiled from the server's own `vk-render.wasm`, which
+/// Chromium allows only with 'wasm-unsafe-eval'), pictures also from blobs the pages make, never inside
+/// another site's frame.
+pub const CONTENT_SECURITY_POLICY: &str =
+    "default-src 'none'; script-src 'self' 'wasm-unsafe-eval'; style-src 'self'; \
      img-src 'self' blob: data:; connect-src 'self'; form-action 'self'; base-uri 'none'; frame-ancestors 'none'";
 
 fn html(status: StatusCode, page: &'static str) -> Response {

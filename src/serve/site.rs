@@ -105,6 +105,7 @@ fn write(folder: &Path, catalogue: &Catalogue, options: RendererOptions) -> anyh
     }
     put(folder, "static/site.js", SITE_SCRIPT.as_bytes())?;
     put(folder, "static/shaders.json", browser::shaders_file().as_bytes())?;
+    put(folder, "static/brdf-templates.json", browser::templates_file().as_bytes())?;
     let mut scenes = serde_json::to_value(catalogue.describe())?;
     let mut renderer = None;
     for (entry, described) in catalogue.entries().zip(scenes.as_array_mut().into_iter().flatten()) {

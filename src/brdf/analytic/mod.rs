@@ -1,8 +1,9 @@
 //! Analytic BRDFs written by users: BRDF Explorer's `.brdf` files (wdas/brdf), each a list of parameters and a
 //! GLSL function `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)` returning f_r without the cosine.
 //!
-//! A file is read (`parse.rs`), its shader wrapped for vk-render's shaders (`glsl.rs`: the file's names moved
-//! out of vk-render's, each line at its own line) and compiled once on its own, so that a mistake in it is
+//! A file is read and its shader wrapped for vk-render's shaders by the crate [`brdf_file`] (the file's names
+//! moved out of vk-render's, each line at its own line; the browser's editor runs the same code as
+//! WebAssembly), and compiled once on its own, so that a mistake in it is
 //! one line naming the file's line when the scene is loaded. On the GPU the model is one more case of
 //! `brdf_eval` (`shaders/common/brdf.glsl`), compiled at run time into the pipelines that draw it; a
 //! material's parameter values live in a buffer, so that changing one never compiles anything again. The
@@ -10,10 +11,7 @@
 //!
 //! A `.brdf` file is code that runs on the device: load only files you trust.
 
-mod glsl;
 pub mod mirrors;
-mod names;
-mod parse;
 
 use std::fmt;
 use std::hash::{Hash, Hasher};
@@ -22,92 +20,8 @@ use std::sync::{Arc, Mutex, Weak};
 
 use glam::Vec3;
 
-use crate::files::shortened;
-pub use glsl::PREFIX;
-
-/// A parameter a file declares.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Parameter {
-    /// Its name in the file: what its GLSL and a scene's `params` call it.
-    pub name: String,
-    /// Its type, range and default.
-    pub kind: ParameterKind,
-    /// Its line in the file, from 1.
-    pub line: usize,
-}
-
-/// A parameter's type, range and default.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ParameterKind {
-    /// `float NAME MIN MAX DEFAULT`.
-    Float {
-        /// The least value a material may give it.
-        min: f32,
-        /// The greatest value a material may give it.
-        max: f32,
-        /// The value of a material that gives none, within `min..=max`.
-        default: f32,
-    },
-    /// `bool NAME 0|1`.
-    Bool {
-        /// The value of a material that gives none.
-        default: bool,
-    },
-    /// `color NAME R G B`: any three numbers (BRDF Explorer gives colours no range).
-    Color {
-        /// The value of a material that gives none, RGB as the file writes it.
-        default: Vec3,
-    },
-}
-
-impl ParameterKind {
-    /// The floats the parameter takes in the parameter buffer.
-    pub fn floats(self) -> usize {
-        match self {
-            ParameterKind::Float { .. } | ParameterKind::Bool { .. } => 1,
-            ParameterKind::Color { .. } => 3,
-        }
-    }
-
-    /// The type's name as the file writes it.
-    pub fn type_name(self) -> &'static str {
-        match self {
-            ParameterKind::Float { .. } => "float",
-            ParameterKind::Bool { .. } => "bool",
-            ParameterKind::Color { .. } => "color",
-        }
-    }
-
-    /// The default value.
-    pub fn default_value(self) -> ParameterValue {
-        match self {
-            ParameterKind::Float { default, .. } => ParameterValue::Float(default),
-            ParameterKind::Bool { default } => ParameterValue::Bool(default),
-            ParameterKind::Color { default } => ParameterValue::Color(default),
-        }
-    }
-}
-
-/// A parameter's value.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ParameterValue {
-    /// A `float` parameter's, within its range.
-    Float(f32),
-    /// A `bool` parameter's (1.0 or 0.0 in the parameter buffer).
-    Bool(bool),
-    /// A `color` parameter's: three numbers, RGB.
-    Color(Vec3),
-}
-
-impl fmt::Display for ParameterValue {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ParameterValue::Float(v) => write!(f, "{v}"),
-            ParameterValue::Bool(v) => write!(f, "{v}"),
-            ParameterValue::Color(c) => write!(f, "[{}, {}, {}]", c.x, c.y, c.z),
-        }
-    }
-}
+use brdf_file::{shortened, ParseError, Target};
+pub use brdf_file::{Parameter, ParameterKind, ParameterValue, PREFIX};
 
 /// One `.brdf` file, read and checked: its parameters and its shader wrapped for vk-render's.
 pub struct AnalyticModel {
@@ -120,7 +34,7 @@ pub struct AnalyticModel {
     pub warnings: Vec<String>,
     /// The file's text.
     source: String,
-    /// `brdf/analytic.glsl` of this model (see [`glsl::wrap`]).
+    /// `brdf/analytic.glsl` of this model (see [`brdf_file::wrap`]).
     glsl: String,
     /// A hash of `glsl`: what compiled shaders and pipelines are kept by.
     key: u64,
@@ -160,12 +74,12 @@ impl AnalyticModel {
     /// # Errors
     /// As [`AnalyticModel::load`].
     pub fn from_text(path: &Path, source: String) -> Result<AnalyticModel, String> {
-        let at = |error: parse::ParseError| match error.line {
+        let at = |error: ParseError| match error.line {
             Some(line) => format!("{}:{line}: {}", path.display(), error.message),
             None => format!("{}: {}", path.display(), error.message),
         };
-        let file = parse::parse(&source).map_err(at)?;
-        let glsl = glsl::wrap(&file.parameters, &file.shader, &file.sampler).map_err(at)?;
+        let file = brdf_file::parse(&source).map_err(at)?;
+        let glsl = brdf_file::wrap(&file.parameters, &file.shader, &file.sampler, Target::Vulkan).map_err(at)?;
         compile_alone(&glsl).map_err(at)?;
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         glsl.hash(&mut hasher);
@@ -215,19 +129,19 @@ impl AnalyticModel {
     }
 }
 
-/// Compiles a model's GLSL in a translation unit of its own ([`glsl::check_unit`]).
-fn compile_alone(wrapper: &str) -> Result<(), parse::ParseError> {
-    let failed = |message: String| parse::ParseError { line: None, message };
+/// Compiles a model's GLSL in a translation unit of its own ([`brdf_file::check_unit`]).
+fn compile_alone(wrapper: &str) -> Result<(), ParseError> {
+    let failed = |message: String| ParseError { line: None, message };
     let compiler = shaderc::Compiler::new().map_err(|e| failed(format!("shaderc could not start: {e}")))?;
     let mut options =
         shaderc::CompileOptions::new().map_err(|e| failed(format!("shaderc options could not be made: {e}")))?;
     options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
     options.set_target_spirv(shaderc::SpirvVersion::V1_5);
-    let unit = glsl::check_unit(wrapper);
+    let unit = brdf_file::check_unit(wrapper);
     match compiler.compile_into_spirv(&unit, shaderc::ShaderKind::Compute, "brdf/analytic.glsl", "main", Some(&options))
     {
         Ok(_) => Ok(()),
-        Err(e) => Err(glsl::file_error(&e.to_string())),
+        Err(e) => Err(brdf_file::file_error(&e.to_string(), Target::Vulkan)),
     }
 }
 
@@ -517,6 +431,19 @@ mod tests {
             "{:?}",
             model.warnings
         );
+    }
+
+    #[test]
+    fn no_name_of_vk_renders_shaders_has_the_prefix() {
+        let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let sources = crate::vulkan::ShaderSources::from_directory(&folder).unwrap();
+        assert_eq!(sources, crate::vulkan::ShaderSources::default());
+        for path in sources.paths() {
+            let text = std::fs::read_to_string(folder.join(path)).unwrap();
+            for word in text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')) {
+                assert!(!word.starts_with(PREFIX), "shaders/{path} names {word}");
+            }
+        }
     }
 
     #[test]

@@ -162,13 +162,17 @@ function browserPixels() {
   return page.browser.pixels();
 }
 
-// The server renders this scene's frames, for `why`; a folder of vk-render site has none, and says so.
+// The server renders this scene's frames, for `why`; a folder of vk-render site has none, and says so, as
+// for a student's own model, which only this browser has.
 function useServer(why) {
-  if (SITE) {
+  const student = studentModelShown();
+  if (SITE || student) {
     page.mode = "none";
     $("gl").hidden = true;
     $("frame").hidden = false;
-    $("status").textContent = `this page cannot draw it: ${why}; vk-render render and vk-render serve can`;
+    $("status").textContent = student
+      ? `your browser cannot draw your model now: ${why}; vk-render render can (download your .brdf)`
+      : `this page cannot draw it: ${why}; vk-render render and vk-render serve can`;
     return;
   }
   page.mode = "server";
@@ -396,9 +400,16 @@ function studiedState() {
   return { scene: page.scene.id, material: object.material, set };
 }
 
+// Whether an object of the page's scene is made of the student's own model (editor.js).
+function studentModelShown() {
+  return Boolean(page.scene && page.scene.objects.some((object) => isStudentMaterial(object.material)));
+}
+
 // The lobe and the albedo of the selected object's material with the current overrides, unless shown.
 async function studies() {
   if (SITE) return;  // the lobe and the albedo are the server's
+  const object = page.scene.objects[Number($("object").value)];
+  if (object && isStudentMaterial(object.material)) return;  // the server never sees a student's model
   const body = studiedState();
   if (!body || JSON.stringify(body) === studied) return;
   studied = JSON.stringify(body);
@@ -420,12 +431,16 @@ async function studies() {
   }
 }
 
+// The scene's objects to choose from, each with its material.
+function objectChoices() {
+  $("object").replaceChildren(...page.scene.objects.map((o) => el("option", { value: String(o.index), text: `${o.index}: ${o.shape} (${o.material})` })));
+}
+
 function chooseScene(id) {
   page.scene = page.scenes.find((s) => s.id === id) || page.scenes[0];
   $("scene").value = page.scene.id;
   page.set = {};
-  const objects = $("object");
-  objects.replaceChildren(...page.scene.objects.map((o) => el("option", { value: String(o.index), text: `${o.index}: ${o.shape} (${o.material})` })));
+  objectChoices();
   materialControls();
   lightControls();
   studies();
@@ -433,6 +448,7 @@ function chooseScene(id) {
 }
 
 async function download() {
+  if (studentModelShown()) return showError("your own model is in your browser alone: download the .brdf (the editor), and name it in a scene file");
   try {
     const blob = await (await postJson("/api/scene-file", request())).blob();
     const link = el("a", { href: URL.createObjectURL(blob), download: `${page.scene.id}.toml` });
@@ -481,6 +497,7 @@ async function makeBrowserRenderer() {
   const made = await BrowserRenderer.create($("gl")).catch((error) => ({ renderer: null, reason: error.message }));
   page.browser = made.renderer;
   page.noBrowser = made.reason;
+  registerStudentShaders(page.browser);
 }
 
 start();

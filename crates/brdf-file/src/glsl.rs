@@ -14,9 +14,9 @@
 
 use std::collections::HashSet;
 
-use super::names::{is_builtin, is_builtin_function};
-use super::parse::ParseError;
-use super::{Parameter, ParameterKind};
+use crate::names::{is_builtin, is_builtin_function};
+use crate::parse::ParseError;
+use crate::{Parameter, ParameterKind};
 
 /// What every name of the file's own is prefixed with.
 pub const PREFIX: &str = "usr_";
@@ -24,6 +24,43 @@ pub const PREFIX: &str = "usr_";
 /// The file name the `#line` directives give, replaced by the file's path in messages (a path may hold
 /// characters a directive's string cannot).
 const LINE_FILE: &str = "BRDF_FILE";
+
+/// The source-string numbers of GLSL ES's `#line` (it takes no names): the template the file is put into
+/// (vk-render's translated shader), the file's own lines, and the wrapper's functions after them.
+const ES_TEMPLATE: u32 = 0;
+const ES_FILE: u32 = 1;
+const ES_WRAPPER: u32 = 2;
+
+/// Which compiler the wrapped GLSL goes to: how its `#line` directives name the file's lines, and how the
+/// compiler's messages are read back ([`file_error`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    /// The renderer's: shaderc (glslang) compiling GLSL 4.60 for Vulkan, whose `#line` takes a file name
+    /// (`GL_GOOGLE_cpp_style_line_directive`).
+    Vulkan,
+    /// The browser's: WebGL2 compiling GLSL ES 3.00, whose `#line` takes a source-string number, and whose
+    /// messages read `ERROR: SOURCE:LINE: ...`. The text goes in place of the translated shaders' hook (the
+    /// forward passes translated at build time with a stand-in model: build/webgl.rs).
+    WebGl,
+}
+
+impl Target {
+    /// The `#line` directive that numbers the next line `line` of the file's own text.
+    fn file_line(self, line: usize) -> String {
+        match self {
+            Target::Vulkan => format!("#line {line} \"{LINE_FILE}\"\n"),
+            Target::WebGl => format!("#line {line} {ES_FILE}\n"),
+        }
+    }
+
+    /// The `#line` directive that begins the wrapper's own functions.
+    fn wrapper_lines(self) -> String {
+        match self {
+            Target::Vulkan => "#line 1 \"brdf/analytic.glsl\"\n".to_string(),
+            Target::WebGl => format!("#line 1 {ES_WRAPPER}\n"),
+        }
+    }
+}
 
 /// The text of one token of the shader: an identifier, or anything else (kept as written).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -293,6 +330,71 @@ fn renamed(text: &str, declarations: &Declarations) -> String {
     out
 }
 
+/// The most steps the loops of a model may take, all together, in one evaluation in the browser ([`guarded`]).
+pub const WEBGL_MAX_LOOP_STEPS: u32 = 4096;
+
+/// `text` (the file's shader, renamed) with every loop guarded: a `for`'s condition and a `while`'s (a
+/// `do ... while` too) also call `analytic_guard()`, which counts the steps of one evaluation and stops every
+/// loop past [`WEBGL_MAX_LOOP_STEPS`], setting `analytic_stopped` (common/analytic.glsl). For the browser: a
+/// WebGL2 loop that never ends hangs the GPU process (SwiftShader's, Chromium's: a dead tab, and every other
+/// page that draws), and GLSL ES has no other way to run forever (it has no recursion). Lines stay lines.
+fn guarded(text: &str) -> String {
+    let all = tokens(text);
+    let mut out = String::with_capacity(text.len() + 64);
+    let mut k = 0;
+    while k < all.len() {
+        let token = all[k];
+        out.push_str(token.text());
+        k += 1;
+        let Token::Identifier(keyword @ ("for" | "while")) = token else { continue };
+        // The parenthesis that opens the loop's header, after any space or comment.
+        let Some(open) = (k..all.len()).find(|&j| all[j].is_significant()) else { continue };
+        if all[open] != Token::Other("(") {
+            continue;
+        }
+        let mut depth = 0;
+        let mut close = None;
+        let mut semicolons = Vec::new();
+        for (j, token) in all.iter().enumerate().skip(open) {
+            match token {
+                Token::Other("(") => depth += 1,
+                Token::Other(")") => {
+                    depth -= 1;
+                    if depth == 0 {
+                        close = Some(j);
+                        break;
+                    }
+                }
+                Token::Other(";") if depth == 1 => semicolons.push(j),
+                _ => {}
+            }
+        }
+        let Some(close) = close else { continue };
+        let text_of = |range: std::ops::Range<usize>| all[range].iter().map(|t| t.text()).collect::<String>();
+        out.push_str(&text_of(k..open + 1));
+        let condition = match (keyword, semicolons.as_slice()) {
+            ("while", []) => open + 1..close,
+            ("for", [first, second]) => {
+                out.push_str(&text_of(open + 1..first + 1));
+                first + 1..*second
+            }
+            _ => {
+                k = open + 1;
+                continue;
+            }
+        };
+        let written = text_of(condition.clone());
+        if all[condition.clone()].iter().any(|t| t.is_significant()) {
+            out.push_str(&format!("({written}) && analytic_guard()"));
+        } else {
+            out.push_str(&format!("{written}analytic_guard()"));
+        }
+        out.push_str(&text_of(condition.end..close + 1));
+        k = close + 1;
+    }
+    out
+}
+
 /// The GLSL of one model: `brdf/analytic.glsl` as the shaders include it (brdf.glsl, under ANALYTIC_BRDF):
 /// the parameters as globals, the file's shader then its isFunc section (`sampler`, the model's importance
 /// sampler, empty when it has none) line for line at their own lines, `analytic_brdf(first, n, t, wi, wo)`,
@@ -304,10 +406,11 @@ fn renamed(text: &str, declarations: &Declarations) -> String {
 /// A [`ParseError`] when the shader defines no `vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)`, or the isFunc
 /// section no `vec3 sampleBRDF(vec3 V, vec3 N, vec3 X, vec3 Y, vec2 u)` and `float pdfBRDF(vec3 L, vec3 V, vec3 N,
 /// vec3 X, vec3 Y)`, or one of them has other types.
-pub(super) fn wrap(
+pub fn wrap(
     parameters: &[Parameter],
     shader: &[(usize, String)],
     sampler: &[(usize, String)],
+    target: Target,
 ) -> Result<String, ParseError> {
     let sections = || shader.iter().chain(sampler);
     let text: String = sections().map(|(_, line)| line.as_str()).collect::<Vec<_>>().join("\n");
@@ -315,12 +418,20 @@ pub(super) fn wrap(
     let all = tokens(&text);
     let required: &[&Signature] = if sampler.is_empty() { &[&BRDF] } else { &[&BRDF, &SAMPLE, &PDF] };
     let declarations = declarations(&significant(&all), &lines, required)?;
-    let renamed = renamed(&text, &declarations);
+    let renamed = match target {
+        Target::Vulkan => renamed(&text, &declarations),
+        Target::WebGl => guarded(&renamed(&text, &declarations)),
+    };
     let mut glsl = String::from(
-        "// The analytic BRDF of one .brdf file, made by vk-render (src/brdf/analytic/glsl.rs): its parameters, then \
+        "// The analytic BRDF of one .brdf file, made by vk-render (crates/brdf-file/src/glsl.rs): its parameters, then \
          its\n// shader with its own names prefixed, each line at its line in the file.\n#ifndef BRDF_ANALYTIC_GLSL\n\
          #define BRDF_ANALYTIC_GLSL\n",
     );
+    if target == Target::WebGl {
+        // SPIRV-Cross's GLSL ES says `precision mediump float` and qualifies its own declarations: the file's
+        // are highp, as they are in the renderer (a phone's GPU would take mediump for 16 bits).
+        glsl.push_str("precision highp float;\nprecision highp int;\n");
+    }
     for parameter in parameters {
         let kind = match parameter.kind {
             ParameterKind::Float { .. } => "float",
@@ -329,16 +440,23 @@ pub(super) fn wrap(
         };
         glsl.push_str(&format!("{kind} {PREFIX}{};\n", parameter.name));
     }
+    if target == Target::WebGl {
+        glsl.push_str(&format!(
+            "int analytic_steps;\nbool analytic_guard() {{\n    analytic_steps += 1;\n    analytic_stopped = \
+             analytic_stopped || analytic_steps > {WEBGL_MAX_LOOP_STEPS};\n    return !analytic_stopped;\n}}\n"
+        ));
+    }
     let mut expected = None;
     for (number, line) in lines.iter().zip(renamed.split('\n')) {
         if expected != Some(*number) {
-            glsl.push_str(&format!("#line {number} \"{LINE_FILE}\"\n"));
+            glsl.push_str(&target.file_line(*number));
         }
         glsl.push_str(line);
         glsl.push('\n');
         expected = Some(number + 1);
     }
-    glsl.push_str("#line 1 \"brdf/analytic.glsl\"\nvoid analytic_set_parameters(uint first) {\n");
+    glsl.push_str(&target.wrapper_lines());
+    glsl.push_str("void analytic_set_parameters(uint first) {\n");
     let mut offset = 0;
     for parameter in parameters {
         let value = |k: usize| format!("analytic_parameter(first + {}u)", offset + k);
@@ -352,10 +470,17 @@ pub(super) fn wrap(
         }
         offset += parameter.kind.floats();
     }
-    glsl.push_str(&format!(
-        "}}\nvec3 analytic_brdf(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {{\n    \
-         analytic_set_parameters(first);\n    return {PREFIX}BRDF(wi, wo, n, t, cross(n, t));\n}}\n"
-    ));
+    glsl.push_str(
+        "}\nvec3 analytic_brdf(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {\n    analytic_set_parameters(first);\n",
+    );
+    match target {
+        Target::Vulkan => glsl.push_str(&format!("    return {PREFIX}BRDF(wi, wo, n, t, cross(n, t));\n}}\n")),
+        // A model stopped by its loops' guard gives 0 (and the page says so: analytic_stopped).
+        Target::WebGl => glsl.push_str(&format!(
+            "    analytic_steps = 0;\n    analytic_stopped = false;\n    vec3 f = {PREFIX}BRDF(wi, wo, n, t, cross(n, \
+             t));\n    return analytic_stopped ? vec3(0.0) : f;\n}}\n"
+        )),
+    }
     if !sampler.is_empty() {
         glsl.push_str(&format!(
             "#define ANALYTIC_HAS_SAMPLER\nvec3 analytic_sample(uint first, vec3 n, vec3 t, vec3 wo, vec2 u) {{\n    \
@@ -370,7 +495,7 @@ pub(super) fn wrap(
 
 /// The translation unit that checks a model's GLSL on its own when the file is loaded: the wrapper, the
 /// parameter buffer it reads, and one call.
-pub(super) fn check_unit(wrapper: &str) -> String {
+pub fn check_unit(wrapper: &str) -> String {
     format!(
         "#version 460\nlayout(local_size_x = 1) in;\nlayout(set = 0, binding = 0, std430) readonly buffer \
          AnalyticParameters {{ float analytic_parameters[]; }};\nfloat analytic_parameter(uint k) {{ return \
@@ -380,20 +505,34 @@ pub(super) fn check_unit(wrapper: &str) -> String {
     )
 }
 
-/// glslang's first error in `log` as one line of the file's own: `LINE: message`, the file's names without
-/// their prefix (the line is `None` for an error outside the file's lines, which would be vk-render's).
-pub(super) fn file_error(log: &str) -> ParseError {
-    let first = log.lines().find(|line| line.contains(": error:")).unwrap_or(log).trim();
+/// The compiler's first error in `log` as one line of the file's own: `LINE: message`, the file's names
+/// without their prefix (the line is `None` for an error outside the file's lines, which would be vk-render's).
+/// glslang (`target` Vulkan) writes `BRDF_FILE:12: error: ...`; WebGL2's compilers (ANGLE, SwiftShader) write
+/// `ERROR: 1:12: ...`, 1 being the file's source string.
+pub fn file_error(log: &str, target: Target) -> ParseError {
+    let (error_mark, file_mark) = match target {
+        Target::Vulkan => (": error:".to_string(), format!("{LINE_FILE}:")),
+        Target::WebGl => ("ERROR:".to_string(), format!("ERROR: {ES_FILE}:")),
+    };
+    let first = log.lines().find(|line| line.contains(&error_mark)).unwrap_or(log).trim();
     let unprefixed = without_prefix(first);
-    let marker = format!("{LINE_FILE}:");
-    match unprefixed.find(&marker) {
+    match unprefixed.find(&file_mark) {
         Some(at) => {
-            let rest = &unprefixed[at + marker.len()..];
+            let rest = &unprefixed[at + file_mark.len()..];
             let (line, message) = rest.split_once(':').unwrap_or(("", rest));
             let message = message.trim().trim_start_matches("error:").trim();
             ParseError { line: line.trim().parse().ok(), message: format!("GLSL: {message}") }
         }
-        None => ParseError { line: None, message: format!("GLSL, in vk-render's wrapper of the file: {unprefixed}") },
+        None => {
+            let message =
+                match target {
+                    Target::Vulkan => unprefixed,
+                    Target::WebGl => unprefixed
+                        .replacen(&format!("ERROR: {ES_TEMPLATE}:"), "ERROR: line ", 1)
+                        .replacen(&format!("ERROR: {ES_WRAPPER}:"), "ERROR: line ", 1),
+                };
+            ParseError { line: None, message: format!("GLSL, in vk-render's wrapper of the file: {message}") }
+        }
     }
 }
 
@@ -514,38 +653,65 @@ mod tests {
         // The wrapper calls them with the frame and sets the parameters first; a file without a sampler
         // has neither.
         let shader = [(5, BRDF_TEXT.to_string())];
-        let wrapped = wrap(&[], &shader, &[(9, sample.to_string()), (10, pdf.to_string())]).unwrap();
+        let wrapped = wrap(&[], &shader, &[(9, sample.to_string()), (10, pdf.to_string())], Target::Vulkan).unwrap();
         assert!(wrapped.contains("#define ANALYTIC_HAS_SAMPLER"), "{wrapped}");
         assert!(wrapped.contains("return usr_sampleBRDF(wo, n, t, cross(n, t), u);"), "{wrapped}");
         assert!(wrapped.contains("return usr_pdfBRDF(wi, wo, n, t, cross(n, t));"), "{wrapped}");
-        assert!(!wrap(&[], &shader, &[]).unwrap().contains("ANALYTIC_HAS_SAMPLER"));
+        assert!(!wrap(&[], &shader, &[], Target::Vulkan).unwrap().contains("ANALYTIC_HAS_SAMPLER"));
     }
 
     #[test]
     fn compiler_messages_name_the_files_line_and_names() {
         let log = "forward.frag:3: warning: something\nBRDF_FILE:12: error: 'usr_foo' : undeclared identifier\n\
                    BRDF_FILE:13: error: 'usr_bar' : no such\n2 errors generated.";
-        let e = file_error(log);
+        let e = file_error(log, Target::Vulkan);
         assert_eq!(e.line, Some(12));
         assert_eq!(e.message, "GLSL: 'foo' : undeclared identifier");
-        let wrapper = file_error("brdf/analytic.glsl:2: error: 'usr_x' : bad");
+        let wrapper = file_error("brdf/analytic.glsl:2: error: 'usr_x' : bad", Target::Vulkan);
         assert_eq!(wrapper.line, None);
         assert!(wrapper.message.contains("'x' : bad"), "{}", wrapper.message);
     }
 
     #[test]
-    fn no_name_of_vk_renders_shaders_has_the_prefix() {
-        let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-        let sources = crate::vulkan::ShaderSources::from_directory(&folder).unwrap();
-        let compiler_sources = crate::vulkan::ShaderSources::default();
-        assert_eq!(sources, compiler_sources);
-        for path in sources.paths() {
-            let text = std::fs::read_to_string(folder.join(path)).unwrap();
-            for token in tokens(&text) {
-                if let Token::Identifier(name) = token {
-                    assert!(!name.starts_with(PREFIX), "shaders/{path} names {name}");
-                }
-            }
-        }
+    fn the_browsers_text_numbers_lines_by_source_string_and_its_messages_are_read_back() {
+        let shader = [(5, BRDF_TEXT.to_string()), (7, "// last".to_string())];
+        let parameters =
+            [Parameter { name: "a".into(), kind: ParameterKind::Float { min: 0.0, max: 1.0, default: 0.5 }, line: 3 }];
+        let wrapped = wrap(&parameters, &shader, &[], Target::WebGl).unwrap();
+        assert!(wrapped.contains("#line 5 1\nvec3 usr_BRDF("), "{wrapped}");
+        assert!(wrapped.contains("#line 7 1\n// last\n#line 1 2\nvoid analytic_set_parameters"), "{wrapped}");
+        assert!(wrapped.contains("usr_a = analytic_parameter(first + 0u);"), "{wrapped}");
+        assert!(!wrapped.contains('"'), "GLSL ES has no strings: {wrapped}");
+        assert!(wrapped.contains("precision highp float;\n"), "{wrapped}");
+        let log = "WARNING: 0:3: something\nERROR: 1:12: 'usr_foo' : undeclared identifier\n\
+                   ERROR: 1:12: '' : compilation terminated\n2 compilation errors.  No code generated.";
+        let e = file_error(log, Target::WebGl);
+        assert_eq!(e.line, Some(12));
+        assert_eq!(e.message, "GLSL: 'foo' : undeclared identifier");
+        let template = file_error("ERROR: 0:300: 'x' : bad", Target::WebGl);
+        assert_eq!(template.line, None);
+        assert!(template.message.contains("wrapper of the file: ERROR: line 300: 'x' : bad"), "{}", template.message);
+    }
+
+    #[test]
+    fn the_browsers_loops_are_guarded_line_for_line() {
+        let text = "for (int i = 0; i < n; i++) x += 1.0;\nwhile (a\n > b) { for (;;) {} }\ndo { y(); } while (c);\n\
+                    float fortune(float while_) { return (while_); }";
+        let out = guarded(text);
+        assert_eq!(
+            out,
+            "for (int i = 0;( i < n) && analytic_guard(); i++) x += 1.0;\nwhile ((a\n > b) && analytic_guard()) { for \
+             (;analytic_guard();) {} }\ndo { y(); } while ((c) && analytic_guard());\nfloat fortune(float while_) { \
+             return (while_); }"
+        );
+        assert_eq!(out.lines().count(), text.lines().count());
+        let shader =
+            [(5, "vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) { while (true) {} return L; }".to_string())];
+        let webgl = wrap(&[], &shader, &[], Target::WebGl).unwrap();
+        assert!(webgl.contains("while ((true) && analytic_guard())"), "{webgl}");
+        assert!(webgl.contains("analytic_steps > 4096"), "{webgl}");
+        assert!(webgl.contains("return analytic_stopped ? vec3(0.0) : f;"), "{webgl}");
+        let vulkan = wrap(&[], &shader, &[], Target::Vulkan).unwrap();
+        assert!(vulkan.contains("while (true) {}") && !vulkan.contains("analytic_guard"), "{vulkan}");
     }
 }

@@ -7,12 +7,12 @@
 
 use glam::Vec3;
 
-use super::names::is_keyword_or_type;
-use super::{Parameter, ParameterKind};
+use crate::names::is_keyword_or_type;
+use crate::{Parameter, ParameterKind};
 
 /// What a file holds, before its shader is checked and wrapped.
 #[derive(Debug)]
-pub(super) struct BrdfFile {
+pub struct BrdfFile {
     pub parameters: Vec<Parameter>,
     /// The shader section's lines as written, each with its line number in the file (from 1).
     pub shader: Vec<(usize, String)>,
@@ -24,7 +24,7 @@ pub(super) struct BrdfFile {
 
 /// An error at one line of the file (from 1), or of the file as a whole.
 #[derive(Debug, PartialEq)]
-pub(super) struct ParseError {
+pub struct ParseError {
     pub line: Option<usize>,
     pub message: String,
 }
@@ -34,7 +34,7 @@ fn at(line: usize, message: impl Into<String>) -> ParseError {
 }
 
 /// Reads the text of a `.brdf` file.
-pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
+pub fn parse(text: &str) -> Result<BrdfFile, ParseError> {
     let mut lines = text.lines().enumerate().map(|(i, line)| (i + 1, line));
     // BRDF Explorer takes the very first line as the type; a file that opens with a comment or a blank line
     // is read here too, as the rest of the file is.
@@ -49,7 +49,7 @@ pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
             format!(
                 "the file starts with `{}`, not `analytic`: vk-render reads BRDF Explorer's analytic files (a \
                  `bparam` or measured file is not one)",
-                super::shortened(kind)
+                crate::shortened(kind)
             ),
         ));
     }
@@ -64,7 +64,7 @@ pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
                     file.warnings.push(format!(
                         "line {number}: `#{}` is dropped, as BRDF Explorer drops every line that starts with #: \
                          write it as a const instead",
-                        super::shortened(defined)
+                        crate::shortened(defined)
                     ));
                 }
             }
@@ -89,7 +89,7 @@ pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
                     other => file.warnings.push(format!(
                         "line {number}: the section `{}` is not one vk-render reads (parameters, shader, isFunc): \
                          it is skipped",
-                        super::shortened(other)
+                        crate::shortened(other)
                     )),
                 }
                 section = Some((number, name.to_string()));
@@ -129,7 +129,7 @@ pub(super) fn parse(text: &str) -> Result<BrdfFile, ParseError> {
                         number,
                         format!(
                             "`{}` is outside any section (`::begin parameters`, `::begin shader`)",
-                            super::shortened(trimmed)
+                            crate::shortened(trimmed)
                         ),
                     ))
                 }
@@ -165,18 +165,18 @@ fn parameter(number: usize, trimmed: &str) -> Result<Parameter, ParseError> {
         other => {
             return Err(at(
                 number,
-                format!("unknown parameter type `{}` (expected float, bool or color)", super::shortened(other)),
+                format!("unknown parameter type `{}` (expected float, bool or color)", crate::shortened(other)),
             ))
         }
     };
     let expected = form.split_whitespace().count() - 1;
     if rest.len() != expected {
-        return Err(at(number, format!("`{}`: a {kind} parameter is `{form}`", super::shortened(trimmed))));
+        return Err(at(number, format!("`{}`: a {kind} parameter is `{form}`", crate::shortened(trimmed))));
     }
     let name = identifier(number, rest[0])?;
     let number_at = |index: usize, what: &str| -> Result<f32, ParseError> {
         rest[index].parse::<f32>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-            at(number, format!("{kind} {name}: {what} `{}` is not a finite number", super::shortened(rest[index])))
+            at(number, format!("{kind} {name}: {what} `{}` is not a finite number", crate::shortened(rest[index])))
         })
     };
     let kind = match kind {
@@ -193,7 +193,7 @@ fn parameter(number: usize, trimmed: &str) -> Result<Parameter, ParseError> {
         "bool" => match rest[1] {
             "0" => ParameterKind::Bool { default: false },
             "1" => ParameterKind::Bool { default: true },
-            other => return Err(at(number, format!("bool {name}: `{}` is not 0 or 1", super::shortened(other)))),
+            other => return Err(at(number, format!("bool {name}: `{}` is not 0 or 1", crate::shortened(other)))),
         },
         _ => ParameterKind::Color { default: Vec3::new(number_at(1, "R")?, number_at(2, "G")?, number_at(3, "B")?) },
     };
@@ -207,7 +207,7 @@ fn identifier(number: usize, name: &str) -> Result<String, ParseError> {
     if !starts || !chars.all(|c| c.is_ascii_alphanumeric() || c == '_') {
         return Err(at(
             number,
-            format!("`{}` is not a GLSL identifier (letters, digits and _)", super::shortened(name)),
+            format!("`{}` is not a GLSL identifier (letters, digits and _)", crate::shortened(name)),
         ));
     }
     if is_keyword_or_type(name) {

@@ -1,0 +1,200 @@
+//! The explore page's editor of a student's own `.brdf` (static/editor.js), in the browser of the explore
+//! test: the model typed into the page is read by the library's code as WebAssembly, compiled by the
+//! browser's WebGL2 and drawn as `vk-render render` renders the downloaded file (within the explorer's
+//! bound), its parameters moved by the page as `--set` moves them; a mistake is shown at its line of the
+//! text; an endless loop, a 50 MB file, a file that is no text and a lost WebGL context end in a message, the
+//! page still drawing; the text outlives a reload.
+
+use std::path::Path;
+use std::time::Duration;
+
+use serde_json::{json, Value};
+
+use super::common::webdriver::Browser;
+use super::{assert_console_clean, cli_frame, compare, drawn_frame, within_bound};
+
+/// A student's model: a colour, a float and a bool, a helper function and a loop (guarded in the browser,
+/// never stopped: four steps).
+pub const STUDENT_BRDF: &str = "analytic
+# A student's model: Lambert layers and a GGX lobe.
+::begin parameters
+color base 0.6 0.25 0.1
+float roughness 0.05 1 0.35
+bool glossy 1
+::end parameters
+
+::begin shader
+const float PI = 3.14159265358979;
+
+float ggx(float NoH, float a)
+{
+    float a2 = a * a;
+    float d = NoH * NoH * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
+}
+
+vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)
+{
+    vec3 H = normalize(L + V);
+    float NoL = max(dot(N, L), 1e-4);
+    float NoV = max(dot(N, V), 1e-4);
+    float layers = 0.0;
+    for (int i = 0; i < 4; i++) layers += 0.25;
+    vec3 f = base / PI * layers;
+    if (glossy) f += vec3(0.04 * ggx(max(dot(N, H), 0.0), roughness * roughness) / (4.0 * NoL * NoV));
+    return f;
+}
+::end shader
+";
+
+/// The line of [`STUDENT_BRDF`] (from 1) that holds `text`.
+fn line_of(text: &str) -> usize {
+    STUDENT_BRDF.lines().position(|line| line.contains(text)).expect("the model has the line") + 1
+}
+
+/// Puts `text` in the editor and draws it: the editor's status and error lines once it has answered.
+fn draw(browser: &Browser, text: &str) -> (String, String) {
+    browser.run(
+        "document.getElementById('editor-status').textContent = '';
+         document.getElementById('editor-error').textContent = '';
+         document.getElementById('editor-text').value = arguments[0];
+         document.getElementById('editor-apply').click();",
+        &[json!(text)],
+    );
+    browser.wait_for(
+        "the editor's answer",
+        "return document.getElementById('editor-status').textContent !== '' || document.getElementById('editor-error').textContent !== '';",
+        Duration::from_secs(60),
+    );
+    let said = browser.run(
+        "return [document.getElementById('editor-status').textContent, document.getElementById('editor-error').textContent];",
+        &[],
+    );
+    (said[0].as_str().unwrap().to_string(), said[1].as_str().unwrap().to_string())
+}
+
+/// The student's model drawn on Figure 1's sphere against `vk-render render` of the downloaded file in the
+/// figure's scene, as drawn and with its parameters moved. `page` is the explore page's address (the
+/// server's or a site's); `everything`: also the mistakes, the hostile input, the storage and the lost context.
+pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path, everything: bool) {
+    browser.open(&format!("{page}?scene=fig1-lambert"));
+    browser.wait_for("the page's renderer", "return page.mode === 'browser';", Duration::from_secs(120));
+    let (status, error) = draw(browser, STUDENT_BRDF);
+    assert_eq!(error, "", "{status}");
+    assert!(status.contains("compiled by your browser, drawn on object 0"), "{status}");
+    let material = browser.run("return editor.model.name;", &[]);
+    let material = material.as_str().unwrap().to_string();
+
+    // The file the page downloads, in the figure's scene in place of the sphere's grey.
+    let file = browser.run("return editorFile();", &[]);
+    assert_eq!(file.as_str(), Some(STUDENT_BRDF));
+    let scenes = folder.join("student");
+    std::fs::create_dir_all(&scenes).unwrap();
+    std::fs::write(scenes.join("student.brdf"), STUDENT_BRDF).unwrap();
+    let figure = std::fs::read_to_string(super::common::root().join("assets/scenes/fig1-lambert.toml")).unwrap();
+    let grey = "[material.grey]\nbrdf = \"lambert\"\nkd = [0.5, 0.5, 0.5]";
+    assert!(figure.contains(grey));
+    let scene = scenes.join("student.toml");
+    std::fs::write(&scene, figure.replace(grey, "[material.grey]\nbrdf = \"analytic\"\nfile = \"student.brdf\""))
+        .unwrap();
+
+    let moved = [
+        ("roughness", json!(0.8), "0.8"),
+        ("glossy", json!(false), "false"),
+        ("base", json!([0.2, 0.5, 0.9]), "[0.2,0.5,0.9]"),
+    ];
+    for state in [&moved[..0], &moved[..]] {
+        let set: serde_json::Map<String, Value> = state
+            .iter()
+            .map(|(name, value, _)| (format!("material.{material}.params.{name}"), value.clone()))
+            .collect();
+        browser.run("Object.assign(page.set, arguments[0]); sendState(true);", &[Value::Object(set)]);
+        let shown = drawn_frame(browser, "fig1-lambert");
+        let (width, height) = shown.dimensions();
+        let args: Vec<String> = state
+            .iter()
+            .flat_map(|(name, _, cli)| ["--set".to_string(), format!("material.grey.params.{name}={cli}")])
+            .collect();
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let cli = cli_frame(folder, "student", &scene, width, height, &args);
+        let single = cli_frame(folder, "student", &scene, width, height, &[&args[..], &["--samples", "1"]].concat());
+        let edges: Vec<bool> = cli.pixels().zip(single.pixels()).map(|(a, b)| a != b).collect();
+        let agreement = compare(&shown, &cli, &edges);
+        eprintln!("the student's model {args:?} at {width} x {height}, the silhouettes aside: {agreement}");
+        assert!(
+            within_bound(&agreement),
+            "the student's model {args:?}: the browser against vk-render render: {agreement}"
+        );
+    }
+    assert_console_clean(browser, "the editor");
+    if !everything {
+        return;
+    }
+    // The picture (at the file's defaults, as the sliders show them) and the editor, for docs/serve.md.
+    browser.resize(1400, 1400);
+    browser.run("page.set = {}; sendState(true); window.scrollTo(0, 0);", &[]);
+    drawn_frame(browser, "fig1-lambert");
+    super::save_screenshot(browser, "explore-editor.png");
+    browser.resize(1500, 1000);
+
+    // Mistakes, at their lines of the text.
+    let undeclared = STUDENT_BRDF.replace("NoH * NoH * (a2", "NoH * NoHH * (a2");
+    let (_, error) = draw(browser, &undeclared);
+    assert_eq!(error, format!("line {}: GLSL: 'NoHH' : undeclared identifier", line_of("NoH * NoH * (a2")));
+    let integer = STUDENT_BRDF.replace("(4.0 * NoL", "(4 * NoL");
+    let (_, error) = draw(browser, &integer);
+    assert!(error.starts_with(&format!("line {}: GLSL: '*' : wrong operand types", line_of("(4.0 * NoL"))), "{error}");
+    let parameter = STUDENT_BRDF.replace("float roughness 0.05 1 0.35", "float roughness 0.05 1");
+    let (_, error) = draw(browser, &parameter);
+    assert_eq!(error, "line 5: `float roughness 0.05 1`: a float parameter is `float NAME MIN MAX DEFAULT`");
+    let no_brdf = STUDENT_BRDF.replace("vec3 BRDF(", "vec3 brdf(");
+    let (_, error) = draw(browser, &no_brdf);
+    assert!(error.starts_with("the shader section defines no function `vec3 BRDF("), "{error}");
+
+    // A loop that never ends stops at its guard: the page draws, and goes on drawing.
+    let endless = STUDENT_BRDF.replace("    return f;", "    while (true) { f *= 1.0001; }\n    return f;");
+    let (status, error) = draw(browser, &endless);
+    assert_eq!(error, "", "{status}");
+    drawn_frame(browser, "fig1-lambert");
+
+    // A 50 MB file dropped, a file that is no text, and a text past the limit typed in.
+    let big = browser.run(
+        "const file = new File([new Uint8Array(50 * 1024 * 1024)], 'huge.brdf');
+         const drop = new DataTransfer();
+         drop.items.add(file);
+         document.getElementById('editor-error').textContent = '';
+         document.getElementById('editor-text').dispatchEvent(new DragEvent('drop', {dataTransfer: drop}));
+         return document.getElementById('editor-error').textContent;",
+        &[],
+    );
+    assert_eq!(big, json!("huge.brdf is 52428800 bytes: the editor takes a .brdf file of at most 262144"));
+    let (_, error) = draw(browser, "\u{89}PNG\r\n\u{1a}\n\u{0}\u{0}");
+    assert!(error.starts_with("line 1: the file starts with `\u{89}PNG`, not `analytic`"), "{error}");
+    let (_, error) = draw(browser, &"x".repeat(300 * 1024));
+    assert_eq!(error, "the text is 307200 bytes: the editor takes at most 262144");
+
+    // The text outlives a reload; drawn again, the model survives a lost WebGL context.
+    draw(browser, STUDENT_BRDF);
+    browser.open(&format!("{page}?scene=fig1-lambert"));
+    browser.wait_for("the page's renderer", "return page.mode === 'browser';", Duration::from_secs(120));
+    let kept = browser.run("return editorFile();", &[]);
+    assert_eq!(kept.as_str(), Some(STUDENT_BRDF), "the browser's storage");
+    draw(browser, STUDENT_BRDF);
+    drawn_frame(browser, "fig1-lambert");
+    browser.run(
+        "window.lostContext = page.browser.gl.getExtension('WEBGL_lose_context'); lostContext.loseContext();",
+        &[],
+    );
+    browser.wait_for("the lost context said", "return page.mode === 'none';", Duration::from_secs(30));
+    let status = browser.run("return document.getElementById('status').textContent;", &[]);
+    assert_eq!(
+        status,
+        json!("your browser cannot draw your model now: the browser's WebGL context was lost; vk-render render can (download your .brdf)")
+    );
+    browser.run("lostContext.restoreContext();", &[]);
+    drawn_frame(browser, "fig1-lambert");
+    let on = browser.run("return page.scene.objects[0].material;", &[]);
+    assert!(on.as_str().unwrap().starts_with("your-brdf-"), "{on}");
+    let said: Vec<_> = browser.console().into_iter().filter(|(_, m)| !m.contains("CONTEXT_LOST_WEBGL")).collect();
+    assert!(said.iter().all(|(level, _)| level != "SEVERE"), "the editor's console: {said:?}");
+}
