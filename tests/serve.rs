@@ -782,14 +782,20 @@ fn the_site_is_the_servers_pages_and_its_data_as_files() {
         let served = server.get(path);
         assert_eq!(std::fs::read(site.join(file)).unwrap(), served.body, "{file}");
     }
-    // The editor's WebAssembly is one (its magic number), the templates one per analytic forward entry.
+    // The editor's WebAssembly is one (its magic number), the templates one per analytic entry.
     assert!(std::fs::read(site.join("static/vk-render.wasm")).unwrap().starts_with(b"\0asm"));
     let templates: serde_json::Value =
         serde_json::from_slice(&std::fs::read(site.join("static/brdf-templates.json")).unwrap()).unwrap();
     let entries: Vec<&String> = templates.as_object().unwrap().keys().collect();
     assert_eq!(
         entries,
-        ["forward.frag", "forward.frag+TERM_VIEWS", "forward_sphere.frag", "forward_sphere.frag+TERM_VIEWS"]
+        [
+            "forward.frag",
+            "forward.frag+TERM_VIEWS",
+            "forward_sphere.frag",
+            "forward_sphere.frag+TERM_VIEWS",
+            "web/probe.frag"
+        ]
     );
     // The scene list as the API answers it, each scene numbering its materials for their files.
     let scenes: serde_json::Value =

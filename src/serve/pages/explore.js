@@ -407,9 +407,10 @@ function studentModelShown() {
 
 // The lobe and the albedo of the selected object's material with the current overrides, unless shown.
 async function studies() {
-  if (SITE) return;  // the lobe and the albedo are the server's
+  // A student's model is studied by the browser (the server never sees it).
+  if (studentModelShown()) studentStudies();
   const object = page.scene.objects[Number($("object").value)];
-  if (object && isStudentMaterial(object.material)) return;  // the server never sees a student's model
+  if (SITE || (object && isStudentMaterial(object.material))) return;  // the lobe and the albedo are the server's
   const body = studiedState();
   if (!body || JSON.stringify(body) === studied) return;
   studied = JSON.stringify(body);

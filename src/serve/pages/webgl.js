@@ -120,7 +120,7 @@ function sceneState(scene, set) {
 const analyticSuffix = (scene, name) => (scene.browser.materials[name].analytic_values ? `@${scene.id}/${name}` : "");
 
 // The texture units of the shaders' samplers (the resolve's colour shares the shadow cubes' unit).
-const TEXTURE_UNITS = { shadow_maps: 0, measured_tables: 1, environment_map: 2, environment_prefiltered: 3, colour: 0 };
+const TEXTURE_UNITS = { shadow_maps: 0, measured_tables: 1, environment_map: 2, environment_prefiltered: 3, colour: 0, probe_directions: 4 };
 
 // Where the server hands out the mesh of `scene`'s object `index` (the key its vertex array is kept by).
 // (`motion`: its lighter mesh, for the motion frames).
@@ -641,6 +641,57 @@ class BrowserRenderer {
     gl.bindVertexArray(this.emptyVertexArray);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     gl.bindVertexArray(null);
+  }
+
+  // f_r of object `index`'s material (the page's overrides `set` applied) at each pair [wi, wo] of `pairs`
+  // (n = +z, X = +x, as the probe's frame), by the probe pass (shaders/web/probe.frag: brdf_probe.comp's
+  // work): [r, g, b, stopped] each, `stopped` 1 where an analytic model's loops were stopped by their guard.
+  probe(scene, set, index, pairs) {
+    const gl = this.gl;
+    const state = sceneState(scene, set);
+    this.writeObjects(scene, state, this.writeAnalytic(state));
+    this.bindObject(scene, index);
+    const count = pairs.length;
+    const directions = new Float32Array(8 * count);
+    pairs.forEach(([wi, wo], k) => {
+      directions.set([...wi, 0], 4 * k);
+      directions.set([...wo, 0], 4 * (count + k));
+    });
+    const texture = (data) => {
+      const made = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D, made);
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, count, data ? 2 : 1, 0, gl.RGBA, gl.FLOAT, data);
+      for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+      return made;
+    };
+    gl.activeTexture(gl.TEXTURE0 + TEXTURE_UNITS.probe_directions);
+    const input = texture(directions);
+    gl.activeTexture(gl.TEXTURE0);
+    const output = texture(null);
+    const framebuffer = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, output, 0);
+    gl.viewport(0, 0, count, 1);
+    gl.disable(gl.DEPTH_TEST);
+    gl.disable(gl.CULL_FACE);
+    gl.activeTexture(gl.TEXTURE1);
+    gl.bindTexture(gl.TEXTURE_2D, this.tables ? this.tables.texture : null);
+    const object = scene.browser.objects[index];
+    const material = state.materials[object.material];
+    // The material's constants, as the forward pass has them (the BRDF and its diffuse lobe).
+    const entry = this.program("background.vert", `web/probe.frag${analyticSuffix(scene, object.material)}`, { 0: `${material.brdf}u`, 3: `${material.diffuse}u` });
+    gl.useProgram(entry.program);
+    gl.uniform1ui(entry.object, 0);
+    gl.bindVertexArray(this.emptyVertexArray);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    gl.bindVertexArray(null);
+    const values = new Float32Array(4 * count);
+    gl.readPixels(0, 0, count, 1, gl.RGBA, gl.FLOAT, values);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.deleteFramebuffer(framebuffer);
+    gl.deleteTexture(input);
+    gl.deleteTexture(output);
+    return pairs.map((_, k) => Array.from(values.subarray(4 * k, 4 * k + 4)));
   }
 
   // The canvas's pixels as the image's rows from the top (R, G, B, A each), read before it is shown.
