@@ -214,8 +214,23 @@ pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path, every
     let (_, error) = draw(browser, &"x".repeat(300 * 1024));
     assert_eq!(error, "the text is 307200 bytes: the editor takes at most 262144");
 
-    // The text outlives a reload; drawn again, the model survives a lost WebGL context.
+    // One model at a time: drawn again, it replaces the one before, its shaders and programs.
     draw(browser, STUDENT_BRDF);
+    let kept = browser.run(
+        "const mine = (name) => name.includes('your-brdf-');
+         return {shaders: Object.keys(page.browser.shaders).filter(mine).every((n) => n.endsWith(editor.model.name)),
+                 programs: [...page.browser.programs.keys()].filter(mine).every((k) => k.split('|')[1].endsWith(editor.model.name)),
+                 materials: Object.keys(page.scene.materials).filter(mine).length, serial: editor.serial};",
+        &[],
+    );
+    assert_eq!(
+        (&kept["shaders"], &kept["programs"], &kept["materials"]),
+        (&json!(true), &json!(true), &json!(1)),
+        "{kept}"
+    );
+    assert!(kept["serial"].as_u64().unwrap() >= 3, "{kept}");
+
+    // The text outlives a reload; drawn again, the model survives a lost WebGL context.
     browser.open(&format!("{page}?scene=fig1-lambert"));
     browser.wait_for("the page's renderer", "return page.mode === 'browser';", Duration::from_secs(120));
     let kept = browser.run("return editorFile();", &[]);

@@ -118,12 +118,15 @@ async function drawStudentModel() {
   }
   if (read.error) return editorError(read.error.line, read.error.message);
   const shaders = {};
-  for (const [entry, template] of Object.entries(editor.templates)) shaders[entry] = template.replace(TEMPLATE_HOOK, read.glsl);
+  // (A function, so that no `$` of the text is taken for a replacement pattern.)
+  for (const [entry, template] of Object.entries(editor.templates)) shaders[entry] = template.replace(TEMPLATE_HOOK, () => read.glsl);
   const log = compileLog(page.browser.gl, shaders["forward_sphere.frag"]);
   if (log !== null) {
     const error = editor.reader.call("read_compiler_log", log);
     return editorError(error.line, error.message);
   }
+  // One model at a time: the one drawn before, its shaders and programs go.
+  if (editor.model && page.browser) page.browser.forget(analyticSuffix(scene, editor.model.name));
   editor.serial += 1;
   editor.model = { ...read, shaders, name: `${STUDENT_MATERIAL}-${editor.serial}` };
   const object = Number($("object").value);
@@ -234,9 +237,21 @@ function compileLog(gl, text) {
 
 // `scene` with object `index` made of the student's model at its defaults, as the server describes an
 // analytic material (catalogue.rs, browser.rs): its controls, and its values as the renderer's buffer holds them.
+// The objects of a model drawn before take the new one, which replaces it (and the page's overrides of it go).
 function withStudentModel(scene, index, model) {
   const derived = JSON.parse(JSON.stringify(scene));
   const name = model.name;
+  for (const [old, material] of Object.entries(scene.materials)) {
+    if (!material.student) continue;
+    delete derived.materials[old];
+    delete derived.browser.materials[old];
+    for (const key of Object.keys(page.set)) if (key.startsWith(`material.${old}.`)) delete page.set[key];
+    derived.objects.forEach((object, k) => {
+      if (object.material !== old) return;
+      object.material = name;
+      derived.browser.objects[k].material = name;
+    });
+  }
   derived.materials[name] = {
     model: "analytic",
     file: editor.fileName,
@@ -250,7 +265,6 @@ function withStudentModel(scene, index, model) {
   };
   derived.objects[index].material = name;
   derived.browser.objects[index].material = name;
-  derived.baseScene = scene.baseScene || scene;
   return derived;
 }
 

@@ -162,6 +162,16 @@ class BrowserRenderer {
     this.emptyVertexArray = gl.createVertexArray();
   }
 
+  // Forgets the shaders whose names end with `suffix` (a model's: analyticSuffix), and their programs.
+  forget(suffix) {
+    for (const name of Object.keys(this.shaders)) if (name.endsWith(suffix)) delete this.shaders[name];
+    for (const [key, entry] of this.programs) {
+      if (!key.split("|")[1].endsWith(suffix)) continue;
+      this.gl.deleteProgram(entry.program);
+      this.programs.delete(key);
+    }
+  }
+
   // The program of a vertex and a fragment shader with its specialization constants (SPIRV-Cross's
   // SPIRV_CROSS_CONSTANT_ID_n macros, defined before its default), compiled once.
   program(vertex, fragment, constants) {
@@ -179,12 +189,14 @@ class BrowserRenderer {
       return shader;
     };
     const program = gl.createProgram();
-    gl.attachShader(program, compile(gl.VERTEX_SHADER, vertex));
-    gl.attachShader(program, compile(gl.FRAGMENT_SHADER, fragment));
+    const stages = [compile(gl.VERTEX_SHADER, vertex), compile(gl.FRAGMENT_SHADER, fragment)];
+    for (const shader of stages) gl.attachShader(program, shader);
     gl.bindAttribLocation(program, 0, "in_position");
     gl.bindAttribLocation(program, 1, "in_normal");
     gl.bindAttribLocation(program, 2, "in_tangent");
     gl.linkProgram(program);
+    // The shaders go with the program (deleted once it is: forget).
+    for (const shader of stages) gl.deleteShader(shader);
     if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(`${vertex} + ${fragment}: ${gl.getProgramInfoLog(program)}`);
     for (const [name, [binding]] of Object.entries(BLOCKS)) {
       const index = gl.getUniformBlockIndex(program, name);
