@@ -636,10 +636,28 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     // exact image of an exact environment is `render`'s, and the page says so; the studies are the server's.
     let state = browser.run(
         "return {disabled: [...document.querySelectorAll('#material input')].every((i) => i.disabled),
-                 studies: document.querySelector('.studies').hidden, download: document.getElementById('download').hidden};",
+                 albedo: document.getElementById('albedo').parentElement.hidden, lobe: document.getElementById('browser-lobe').parentElement.hidden,
+                 download: document.getElementById('download').hidden, error: document.getElementById('error').textContent};",
         &[],
     );
-    assert_eq!(state, json!({"disabled": true, "studies": true, "download": true}), "{state}");
+    assert_eq!(
+        state,
+        json!({"disabled": true, "albedo": true, "lobe": false, "download": true, "error": ""}),
+        "{state}"
+    );
+    // The lobe, computed by the browser's probe pass, is `vk-render plot lobe`'s: a built-in model, a measured
+    // table, a `.brdf` model (translated per model on the server, at `site` time here).
+    for id in ["fig4-gold-metalness-0.5", "measured-gold", "anisotropic-spheres"] {
+        browser_frame(&browser, id, &json!({}));
+        let lobe = browser.run("siteStudies(); return [page.lobe, page.scene.objects[0].material];", &[]);
+        let path = every.iter().find(|e| e.0 == id).map(|e| e.1.clone()).unwrap();
+        let worst = editor::lobe_against_plot(&lobe[0], &path, lobe[1].as_str().unwrap(), folder.path());
+        eprintln!("the site: {id}'s lobe against vk-render plot lobe: at most {worst:.2e} of its peak off");
+        assert!(
+            worst <= 1e-4,
+            "the site, {id}: the browser's lobe against vk-render plot lobe: {worst:.2e} of the peak"
+        );
+    }
     browser.run("chooseScene('sky');", &[]);
     browser.wait_for(
         "the sky in the site's browser",

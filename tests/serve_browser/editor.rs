@@ -131,36 +131,8 @@ pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path, every
     // Its lobe, by the browser's probe pass, against `vk-render plot lobe` of the file, at its defaults.
     browser.run("page.set = {}; sendState(true); studentStudies();", &[]);
     let lobe = browser.run("return editor.lobe;", &[]);
-    let csv = folder.join("student-lobe.csv");
-    let plotted = super::common::vk_render(&[
-        "plot",
-        "lobe",
-        scene.to_str().unwrap(),
-        "--material",
-        "grey",
-        "--theta-i",
-        "30",
-        "-o",
-        csv.to_str().unwrap(),
-    ]);
-    assert!(plotted.status.success(), "{}", String::from_utf8_lossy(&plotted.stderr));
-    let rows: Vec<Vec<f64>> = std::fs::read_to_string(&csv)
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
-    assert_eq!(rows.len(), 361);
-    let peak = rows.iter().flat_map(|row| row[1..].iter().copied()).fold(0.0, f64::max);
-    let mut worst = 0.0f64;
-    for (k, row) in rows.iter().enumerate() {
-        assert_eq!(lobe["theta_o"][k].as_f64(), Some(row[0]), "the lobe's angles");
-        for channel in 0..3 {
-            let shown = lobe["values"][k][channel].as_f64().unwrap();
-            worst = worst.max((shown - row[1 + channel]).abs() / peak);
-        }
-    }
-    eprintln!("the student's lobe against vk-render plot lobe: at most {worst:.2e} of its peak {peak:.4} off");
+    let worst = lobe_against_plot(&lobe, &scene, "grey", folder);
+    eprintln!("the student's lobe against vk-render plot lobe: at most {worst:.2e} of its peak off");
     assert!(worst <= 1e-4, "the browser's lobe against vk-render plot lobe: {worst:.2e} of the peak");
     assert_console_clean(browser, "the editor");
     if !everything {
@@ -253,4 +225,40 @@ pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path, every
     assert!(on.as_str().unwrap().starts_with("your-brdf-"), "{on}");
     let said: Vec<_> = browser.console().into_iter().filter(|(_, m)| !m.contains("CONTEXT_LOST_WEBGL")).collect();
     assert!(said.iter().all(|(level, _)| level != "SEVERE"), "the editor's console: {said:?}");
+}
+
+/// How far the page's lobe (`{theta_o, values}`: f_r cos θo per channel at θi 30°) is from `vk-render plot
+/// lobe` of `material` in scene file `scene` at the same angles: the largest difference over its peak.
+pub fn lobe_against_plot(lobe: &Value, scene: &Path, material: &str, folder: &Path) -> f64 {
+    let csv = folder.join(format!("{material}-lobe.csv"));
+    let plotted = super::common::vk_render(&[
+        "plot",
+        "lobe",
+        scene.to_str().unwrap(),
+        "--material",
+        material,
+        "--theta-i",
+        "30",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(plotted.status.success(), "{}", String::from_utf8_lossy(&plotted.stderr));
+    let rows: Vec<Vec<f64>> = std::fs::read_to_string(&csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 361);
+    assert_eq!(lobe["theta_i"], json!(30));
+    let peak = rows.iter().flat_map(|row| row[1..].iter().copied()).fold(0.0, f64::max);
+    let mut worst = 0.0f64;
+    for (k, row) in rows.iter().enumerate() {
+        assert_eq!(lobe["theta_o"][k].as_f64(), Some(row[0]), "the lobe's angles");
+        for channel in 0..3 {
+            let shown = lobe["values"][k][channel].as_f64().unwrap();
+            worst = worst.max((shown - row[1 + channel]).abs() / peak);
+        }
+    }
+    worst
 }

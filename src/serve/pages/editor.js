@@ -141,37 +141,21 @@ async function drawStudentModel() {
   studentStudies();
 }
 
-// The lobe's incidence and angles: the page's lobe (explore.js) at θi 30°, θo every half degree from -90 to
-// 90 (src/analysis/lobe.rs: LOBE_STEP_DEGREES), negative on the side of wi.
-const LOBE_THETA_I = 30;
-const LOBE_ANGLES = [...Array(361).keys()].map((k) => -90 + 0.5 * k);
-
-// The directions of the lobe's cut in the plane of incidence: wi, and wo at each of LOBE_ANGLES (degrees),
-// as src/analysis/lobe.rs's cut_directions makes them (n = +z, wi at +x).
-function lobeDirections(thetaI) {
-  const radians = (degrees) => (degrees * Math.PI) / 180;
-  const wi = [Math.sin(radians(thetaI)), 0, Math.cos(radians(thetaI))];
-  return LOBE_ANGLES.map((theta) => [wi, [-Math.sin(radians(theta)), 0, Math.cos(radians(theta))]]);
-}
-
 // The student's model studied by this browser: its lobe (f_r cos θo in the plane of incidence, by the
 // probe pass), drawn; and said where its loops were stopped.
 function studentStudies() {
   const index = page.scene.objects.findIndex((object) => isStudentMaterial(object.material));
-  if (index < 0 || page.mode !== "browser" || !page.browser) return;
-  let values;
+  if (index < 0 || !browserHoldsScene()) return;
+  let lobe;
   try {
-    values = page.browser.probe(page.scene, page.set, index, lobeDirections(LOBE_THETA_I));
+    lobe = browserLobe(index);
   } catch (error) {
     return editorError(0, `its lobe: ${error.message}`);
   }
-  const lobe = values.map(([r, g, b], k) => {
-    const cosine = Math.max(Math.cos((LOBE_ANGLES[k] * Math.PI) / 180), 0);
-    return [r * cosine, g * cosine, b * cosine];
-  });
-  editor.lobe = { theta_i: LOBE_THETA_I, theta_o: LOBE_ANGLES, values: lobe };
-  drawLobe($("editor-lobe"), lobe);
-  const stopped = values.some((v) => v[3] !== 0);
+  editor.lobe = lobe;
+  $("editor-lobe").parentElement.hidden = false;
+  drawLobe($("editor-lobe"), lobe.values);
+  const stopped = lobe.stopped;
   $("editor-error").textContent = stopped
     ? `its loops ran past ${STOPPED_STEPS} steps in one evaluation (a loop that never ends?): the page stopped them, and draws 0 there`
     : "";
@@ -180,50 +164,6 @@ function studentStudies() {
 // crates/brdf-file's WEBGL_MAX_LOOP_STEPS: the steps the loops of a model may take in one evaluation.
 const STOPPED_STEPS = 4096;
 
-// The lobe's polar plot (luminance, Rec. 709's weights as `vk-render plot lobe`'s) on `canvas`: the surface,
-// the incident direction, and the curve scaled to its largest value.
-function drawLobe(canvas, lobe) {
-  const context = canvas.getContext("2d");
-  const [width, height] = [canvas.width, canvas.height];
-  context.clearRect(0, 0, width, height);
-  const luminance = lobe.map(([r, g, b]) => 0.2126 * r + 0.7152 * g + 0.0722 * b);
-  const finite = luminance.filter((v) => Number.isFinite(v));
-  const largest = Math.max(1e-30, ...finite.map(Math.abs));
-  const [cx, cy, radius] = [width / 2, height - 16, Math.min(width / 2, height - 24) - 8];
-  // As `vk-render plot lobe` draws it: θo negative on the side of wi, on the left.
-  const at = (theta, r) => [cx + Math.sin((theta * Math.PI) / 180) * r * radius, cy - Math.cos((theta * Math.PI) / 180) * r * radius];
-  context.strokeStyle = "#d0d4d9";
-  context.lineWidth = 1;
-  for (const r of [0.25, 0.5, 0.75, 1]) {
-    context.beginPath();
-    context.arc(cx, cy, r * radius, Math.PI, 2 * Math.PI);
-    context.stroke();
-  }
-  context.beginPath();
-  context.moveTo(cx - radius - 4, cy);
-  context.lineTo(cx + radius + 4, cy);
-  context.stroke();
-  context.strokeStyle = "#5f6368";
-  context.setLineDash([4, 4]);
-  context.beginPath();
-  context.moveTo(cx, cy);
-  context.lineTo(...at(-LOBE_THETA_I, 1));
-  context.stroke();
-  context.setLineDash([]);
-  context.strokeStyle = "#1f5fa8";
-  context.lineWidth = 2;
-  context.beginPath();
-  LOBE_ANGLES.forEach((theta, k) => {
-    const v = Number.isFinite(luminance[k]) ? Math.max(luminance[k], 0) / largest : 0;
-    const [x, y] = at(theta, v);
-    if (k === 0) context.moveTo(x, y);
-    else context.lineTo(x, y);
-  });
-  context.stroke();
-  context.fillStyle = "#5f6368";
-  context.font = "12px system-ui, sans-serif";
-  context.fillText(`f_r cos θo, luminance; θi ${LOBE_THETA_I}° (dashed); largest ${shown(largest)}`, 8, 14);
-}
 
 // The compiler's log of a fragment shader that does not compile; null when it does.
 function compileLog(gl, text) {

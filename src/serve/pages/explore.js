@@ -20,6 +20,7 @@ const page = {
   socketSent: 0,   // messages sent on the socket, which numbers its frames so
   socketStates: new Map(), // the page's state (page.sent) of each message sent on the socket, until its frames come
   restTimer: null, // draws the browser's still frame once the controls rest
+  loaded: null,    // the scene whose meshes, tables and shaders the browser's renderer holds
   statusShown: 0,  // when the status line was last written
 };
 
@@ -197,6 +198,7 @@ async function chooseRenderer() {
   }
   if (page.scene !== scene) return;
   page.mode = "browser";
+  page.loaded = scene;
   $("frame").hidden = true;
   $("gl").hidden = false;
   sendState(true);
@@ -379,6 +381,94 @@ function orbit(canvas) {
   });
 }
 
+// The lobe's incidence and angles: the page's lobe (explore.js) at θi 30°, θo every half degree from -90 to
+// 90 (src/analysis/lobe.rs: LOBE_STEP_DEGREES), negative on the side of wi.
+const LOBE_THETA_I = 30;
+const LOBE_ANGLES = [...Array(361).keys()].map((k) => -90 + 0.5 * k);
+
+// The directions of the lobe's cut in the plane of incidence: wi, and wo at each of LOBE_ANGLES (degrees),
+// as src/analysis/lobe.rs's cut_directions makes them (n = +z, wi at +x).
+function lobeDirections(thetaI) {
+  const radians = (degrees) => (degrees * Math.PI) / 180;
+  const wi = [Math.sin(radians(thetaI)), 0, Math.cos(radians(thetaI))];
+  return LOBE_ANGLES.map((theta) => [wi, [-Math.sin(radians(theta)), 0, Math.cos(radians(theta))]]);
+}
+
+// The lobe's polar plot (luminance, Rec. 709's weights as `vk-render plot lobe`'s) on `canvas`: the surface,
+// the incident direction, and the curve scaled to its largest value.
+function drawLobe(canvas, lobe) {
+  const context = canvas.getContext("2d");
+  const [width, height] = [canvas.width, canvas.height];
+  context.clearRect(0, 0, width, height);
+  const luminance = lobe.map(([r, g, b]) => 0.2126 * r + 0.7152 * g + 0.0722 * b);
+  const finite = luminance.filter((v) => Number.isFinite(v));
+  const largest = Math.max(1e-30, ...finite.map(Math.abs));
+  const [cx, cy, radius] = [width / 2, height - 16, Math.min(width / 2, height - 24) - 8];
+  // As `vk-render plot lobe` draws it: θo negative on the side of wi, on the left.
+  const at = (theta, r) => [cx + Math.sin((theta * Math.PI) / 180) * r * radius, cy - Math.cos((theta * Math.PI) / 180) * r * radius];
+  context.strokeStyle = "#d0d4d9";
+  context.lineWidth = 1;
+  for (const r of [0.25, 0.5, 0.75, 1]) {
+    context.beginPath();
+    context.arc(cx, cy, r * radius, Math.PI, 2 * Math.PI);
+    context.stroke();
+  }
+  context.beginPath();
+  context.moveTo(cx - radius - 4, cy);
+  context.lineTo(cx + radius + 4, cy);
+  context.stroke();
+  context.strokeStyle = "#5f6368";
+  context.setLineDash([4, 4]);
+  context.beginPath();
+  context.moveTo(cx, cy);
+  context.lineTo(...at(-LOBE_THETA_I, 1));
+  context.stroke();
+  context.setLineDash([]);
+  context.strokeStyle = "#1f5fa8";
+  context.lineWidth = 2;
+  context.beginPath();
+  LOBE_ANGLES.forEach((theta, k) => {
+    const v = Number.isFinite(luminance[k]) ? Math.max(luminance[k], 0) / largest : 0;
+    const [x, y] = at(theta, v);
+    if (k === 0) context.moveTo(x, y);
+    else context.lineTo(x, y);
+  });
+  context.stroke();
+  context.fillStyle = "#5f6368";
+  context.font = "12px system-ui, sans-serif";
+  context.fillText(`f_r cos θo, luminance; θi ${LOBE_THETA_I}° (dashed); largest ${shown(largest)}`, 8, 14);
+}
+
+// The lobe of object `index`'s material with the page's overrides, computed by this browser's probe pass
+// (webgl.js: probe): f_r cos θo per channel at each of LOBE_ANGLES, and whether an analytic model's loops
+// were stopped there (a student's model: editor.js).
+function browserLobe(index) {
+  const values = page.browser.probe(page.scene, page.set, index, lobeDirections(LOBE_THETA_I));
+  const lobe = values.map(([r, g, b], k) => {
+    const cosine = Math.max(Math.cos((LOBE_ANGLES[k] * Math.PI) / 180), 0);
+    return [r * cosine, g * cosine, b * cosine];
+  });
+  return { theta_i: LOBE_THETA_I, theta_o: LOBE_ANGLES, values: lobe, stopped: values.some((v) => v[3] !== 0) };
+}
+
+// Whether the browser draws the page's scene, its data loaded (a scene just chosen is still loading).
+function browserHoldsScene() {
+  return page.mode === "browser" && Boolean(page.browser) && page.loaded === page.scene;
+}
+
+// A folder of vk-render site: the selected object's lobe, computed by this browser (the server's plots are
+// the server's).
+function siteStudies() {
+  const index = Number($("object").value);
+  if (!browserHoldsScene() || !page.scene.objects[index]) return;
+  try {
+    page.lobe = browserLobe(index);
+  } catch (error) {
+    return showError(`the lobe: ${error.message}`);
+  }
+  drawLobe($("browser-lobe"), page.lobe.values);
+}
+
 // The outgoing angles of the page's albedo chart, in degrees.
 const ALBEDO_ANGLES = [...Array(18).keys()].map((k) => 5 * k).concat([89]);
 
@@ -410,7 +500,8 @@ async function studies() {
   // A student's model is studied by the browser (the server never sees it).
   if (studentModelShown()) studentStudies();
   const object = page.scene.objects[Number($("object").value)];
-  if (SITE || (object && isStudentMaterial(object.material))) return;  // the lobe and the albedo are the server's
+  if (SITE) return siteStudies();
+  if (object && isStudentMaterial(object.material)) return;  // the server never sees a student's model
   const body = studiedState();
   if (!body || JSON.stringify(body) === studied) return;
   studied = JSON.stringify(body);
