@@ -103,5 +103,15 @@ mod tests {
                 assert!(status.status.success(), "{} in {entry}: {said}", path.display());
             }
         }
+        let undeclared = "analytic\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)\n{\n    return \
+                          vec3(nope);\n}\n::end shader\n";
+        let file = brdf_file::parse(undeclared).unwrap();
+        let glsl = brdf_file::wrap(&file.parameters, &file.shader, &file.sampler, brdf_file::Target::WebGl).unwrap();
+        let es = scratch.0.join("undeclared.frag");
+        std::fs::write(&es, ANALYTIC_TEMPLATES[0].1.replace(TEMPLATE_HOOK, &glsl)).unwrap();
+        let status = std::process::Command::new(&tools.validator).arg(&es).output().unwrap();
+        assert!(!status.status.success());
+        let error = brdf_file::file_error(&String::from_utf8_lossy(&status.stdout), brdf_file::Target::WebGl);
+        assert_eq!((error.line, error.message.as_str()), (Some(5), "GLSL: 'nope' : undeclared identifier"));
     }
 }

@@ -12,7 +12,7 @@
 #include "common/scene.glsl"
 #include "common/brdf.glsl"
 
-layout(set = 0, binding = 12) uniform highp sampler2D probe_directions;
+layout(set = 0, binding = 12) uniform sampler2D probe_directions;
 
 layout(location = 0) out vec4 out_value;
 

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use serde::Serialize;
 
-use vk_render::brdf::{Brdf, ParameterKind, ParameterValue};
+use vk_render::brdf::{Brdf, ParameterValue};
 use vk_render::figures::FIGURES;
 use vk_render::{Override, Scene};
 
@@ -288,28 +288,13 @@ fn describe_material(material: &str, brdf: &Brdf) -> MaterialDescription {
                 .values()
                 .map(|(parameter, value)| {
                     let (name, key) = (&parameter.name, key(&format!("params.{}", parameter.name)));
-                    match (parameter.kind, value) {
-                        (ParameterKind::Float { min, max, .. }, ParameterValue::Float(v)) => ParameterDescription::new(
-                            name,
-                            key,
-                            "number",
-                            serde_json::json!(v),
-                            Some((min, max, false)),
-                        ),
-                        (_, ParameterValue::Float(v)) => {
-                            ParameterDescription::new(name, key, "number", serde_json::json!(v), None)
-                        }
-                        (_, ParameterValue::Color(c)) => ParameterDescription::new(
-                            name,
-                            key,
-                            "colour",
-                            serde_json::json!(c.to_array()),
-                            Some(COLOUR_RANGE),
-                        ),
-                        (_, ParameterValue::Bool(b)) => {
-                            ParameterDescription::new(name, key, "bool", serde_json::json!(b), None)
-                        }
-                    }
+                    let (kind, range) = parameter.kind.control();
+                    let value = match value {
+                        ParameterValue::Float(v) => serde_json::json!(v),
+                        ParameterValue::Bool(b) => serde_json::json!(b),
+                        ParameterValue::Color(c) => serde_json::json!(c.to_array()),
+                    };
+                    ParameterDescription::new(name, key, kind, value, range.map(|(min, max)| (min, max, false)))
                 })
                 .collect();
             (parameters, Some(analytic.model().name()))

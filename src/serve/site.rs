@@ -6,6 +6,7 @@
 //! each material's albedo table at the scene's own values (src/serve/pages/common.js's `dataUrl` names them).
 //! Every link is relative, so the folder works from any sub-path.
 
+use std::collections::hash_map::{Entry as Slot, HashMap};
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
@@ -108,6 +109,8 @@ fn write(folder: &Path, catalogue: &Catalogue, options: RendererOptions) -> anyh
     put(folder, "static/brdf-templates.json", browser::templates_file().as_bytes())?;
     let mut scenes = serde_json::to_value(catalogue.describe())?;
     let mut renderer = None;
+    // Each `.brdf` model translated once, whichever scenes and materials name it (a second of work each).
+    let mut translated: HashMap<u64, Vec<u8>> = HashMap::new();
     for (entry, described) in catalogue.entries().zip(scenes.as_array_mut().into_iter().flatten()) {
         // A material's files are named by its place among the scene's materials (names are any TOML key).
         let numbers: serde_json::Map<String, Json> =
@@ -129,8 +132,12 @@ fn write(folder: &Path, catalogue: &Catalogue, options: RendererOptions) -> anyh
                     put(folder, &format!("{data}measured-{k}.bin"), &browser::measured_file(table))?
                 }
                 Brdf::Analytic(material) => {
-                    let shaders = browser::analytic_file(material.model()).map_err(|e| failed(entry, e))?;
-                    put(folder, &format!("{data}analytic-{k}.json"), &shaders)?;
+                    let model = material.model();
+                    let shaders = match translated.entry(model.key()) {
+                        Slot::Occupied(known) => known.into_mut(),
+                        Slot::Vacant(new) => new.insert(browser::analytic_file(model).map_err(|e| failed(entry, e))?),
+                    };
+                    put(folder, &format!("{data}analytic-{k}.json"), shaders)?;
                 }
                 _ => {}
             }

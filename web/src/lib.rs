@@ -10,7 +10,7 @@
 
 use std::cell::RefCell;
 
-use brdf_file::{Parameter, ParameterKind, Target};
+use brdf_file::{Parameter, ParameterValue, Target};
 use serde_json::{json, Value};
 
 /// The longest `.brdf` text the editor takes: 256 KiB (BRDF Explorer's files are under 10 KiB; the page
@@ -93,11 +93,7 @@ pub fn read_model(text: &str) -> Value {
     let mut offsets = serde_json::Map::new();
     for parameter in &file.parameters {
         offsets.insert(parameter.name.clone(), json!(values.len()));
-        match parameter.kind {
-            ParameterKind::Float { default, .. } => values.push(default),
-            ParameterKind::Bool { default } => values.push(if default { 1.0 } else { 0.0 }),
-            ParameterKind::Color { default } => values.extend(default.to_array()),
-        }
+        parameter.kind.default_value().extend_floats(&mut values);
     }
     json!({
         "glsl": glsl,
@@ -109,21 +105,22 @@ pub fn read_model(text: &str) -> Value {
     })
 }
 
-/// A parameter as the explore page's control of it: a float over its range, a colour's components over 0..1.
+/// A parameter as the explore page's control of it, at its default (as the server describes an analytic
+/// material's: `ParameterKind::control`).
 fn control(parameter: &Parameter) -> Value {
-    let name = &parameter.name;
-    match parameter.kind {
-        ParameterKind::Float { min, max, default } => {
-            json!({ "name": name, "kind": "number", "value": default, "min": min, "max": max, "log": false, "line": parameter.line })
-        }
-        ParameterKind::Bool { default } => {
-            json!({ "name": name, "kind": "bool", "value": default, "log": false, "line": parameter.line })
-        }
-        ParameterKind::Color { default } => json!({
-            "name": name, "kind": "colour", "value": default.to_array(), "min": 0.0, "max": 1.0, "log": false,
-            "line": parameter.line
-        }),
+    let (kind, range) = parameter.kind.control();
+    let value = match parameter.kind.default_value() {
+        ParameterValue::Float(v) => json!(v),
+        ParameterValue::Bool(b) => json!(b),
+        ParameterValue::Color(c) => json!(c.to_array()),
+    };
+    let mut control =
+        json!({ "name": parameter.name, "kind": kind, "value": value, "log": false, "line": parameter.line });
+    if let Some((min, max)) = range {
+        control["min"] = json!(min);
+        control["max"] = json!(max);
     }
+    control
 }
 
 /// The browser's compiler log of a model's shaders as the file's first error: `{"line", "message"}` (the

@@ -80,6 +80,16 @@ impl ParameterKind {
         }
     }
 
+    /// How the explore page's control of such a parameter moves: its kind (`number`, `colour` or `bool`) and
+    /// the range it spans, if any (a float over the file's range, each component of a colour over 0..1).
+    pub fn control(self) -> (&'static str, Option<(f32, f32)>) {
+        match self {
+            ParameterKind::Float { min, max, .. } => ("number", Some((min, max))),
+            ParameterKind::Bool { .. } => ("bool", None),
+            ParameterKind::Color { .. } => ("colour", Some((0.0, 1.0))),
+        }
+    }
+
     /// The default value.
     pub fn default_value(self) -> ParameterValue {
         match self {
@@ -99,6 +109,18 @@ pub enum ParameterValue {
     Bool(bool),
     /// A `color` parameter's: three numbers, RGB.
     Color(Vec3),
+}
+
+impl ParameterValue {
+    /// Appends the value as the parameter buffer holds it ([`ParameterKind::floats`] of them): a float, a bool
+    /// as 1 or 0, a colour's three components (the wrapper's `analytic_set_parameters` reads them so).
+    pub fn extend_floats(self, floats: &mut Vec<f32>) {
+        match self {
+            ParameterValue::Float(v) => floats.push(v),
+            ParameterValue::Bool(b) => floats.push(if b { 1.0 } else { 0.0 }),
+            ParameterValue::Color(c) => floats.extend(c.to_array()),
+        }
+    }
 }
 
 impl fmt::Display for ParameterValue {

@@ -243,11 +243,7 @@ impl Analytic {
     pub fn floats(&self) -> Vec<f32> {
         let mut floats = Vec::with_capacity(self.values.len() + 2);
         for value in self.values.iter() {
-            match *value {
-                ParameterValue::Float(v) => floats.push(v),
-                ParameterValue::Bool(b) => floats.push(if b { 1.0 } else { 0.0 }),
-                ParameterValue::Color(c) => floats.extend(c.to_array()),
-            }
+            value.extend_floats(&mut floats);
         }
         floats
     }

@@ -137,8 +137,8 @@ async function drawStudentModel() {
   materialControls();
   editorStatus(`${editor.fileName}: compiled by your browser, drawn on object ${object}` +
     (read.warnings.length ? `; ${read.warnings.join("; ")}` : ""));
-  await chooseRenderer();
-  studentStudies();
+  // Its frame, then its lobe (sendState's studies, once the scene is loaded).
+  chooseRenderer();
 }
 
 // The student's model studied by this browser: its lobe (f_r cos θo in the plane of incidence, by the
