@@ -12,10 +12,11 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The entries that evaluate a material's BRDF in the browser's passes: the forward passes, and the probe
-/// (the page's lobe of a model). An analytic model's are translated with it: on the server per `.brdf` file
-/// (src/webgl.rs), and at build time as templates for the browser's own editor ([`translate_templates`]).
-pub const ANALYTIC_ENTRIES: [&str; 3] = ["forward.frag", "forward_sphere.frag", "web/probe.frag"];
+/// The entries that evaluate a material's BRDF in the browser's passes: the forward passes, and the probes
+/// (the page's lobe and albedo of a model). An analytic model's are translated with it: on the server per
+/// `.brdf` file (src/webgl.rs), and at build time as templates for the browser's own editor
+/// ([`translate_templates`]).
+pub const ANALYTIC_ENTRIES: [&str; 4] = ["forward.frag", "forward_sphere.frag", "web/probe.frag", "web/albedo.frag"];
 
 /// The line of an analytic template that a model's GLSL ES replaces (`brdf_file::wrap` for WebGL: the
 /// browser's editor runs it as WebAssembly), where the stand-in's `analytic_brdf` was.

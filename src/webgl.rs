@@ -86,7 +86,7 @@ mod tests {
         let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brdfs");
         let scratch = Scratch::new().unwrap();
         let tools = translation::Tools::from_environment();
-        assert_eq!(ANALYTIC_TEMPLATES.len(), 5, "forward and forward_sphere, each with its term views; the probe");
+        assert_eq!(ANALYTIC_TEMPLATES.len(), 6, "forward and forward_sphere, each with its term views; the probes");
         let mut files: Vec<_> = std::fs::read_dir(&folder).unwrap().map(|e| e.unwrap().path()).collect();
         files.sort();
         for path in files {

@@ -794,6 +794,7 @@ fn the_site_is_the_servers_pages_and_its_data_as_files() {
             "forward.frag+TERM_VIEWS",
             "forward_sphere.frag",
             "forward_sphere.frag+TERM_VIEWS",
+            "web/albedo.frag",
             "web/probe.frag"
         ]
     );

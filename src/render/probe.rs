@@ -5,6 +5,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use ash::vk;
+use cubature::CellEstimate;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
@@ -63,16 +64,6 @@ pub struct AlbedoCell {
     pub theta: (f32, f32),
     /// phi_i's bounds, radians from +x.
     pub phi: (f32, f32),
-}
-
-/// The integral of f_r cos(theta_i) over a cell by the 15-point Gauss-Kronrod rule in both angles, and by
-/// the 7-point Gauss rule embedded in it: their difference bounds the error of the coarser one.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CellIntegral {
-    /// The 15-point Gauss-Kronrod estimate, RGB.
-    pub kronrod: Vec3,
-    /// The embedded 7-point Gauss estimate, RGB.
-    pub gauss: Vec3,
 }
 
 /// `AlbedoJob` of `shaders/brdf_albedo.comp` (std430).
@@ -305,7 +296,7 @@ impl ProbePass {
         jobs: &[AlbedoJob],
         cells: &[AlbedoCell],
         context: ProbeContext,
-    ) -> Result<Vec<CellIntegral>> {
+    ) -> Result<Vec<CellEstimate>> {
         let gpu_jobs: Vec<GpuAlbedoJob> = jobs
             .iter()
             .map(|job| GpuAlbedoJob {
@@ -323,7 +314,10 @@ impl ProbePass {
         };
         let bytes = run_by_brdf(&self.device, &mut self.albedo, cells, brdf_of, element, &[&jobs_buffer], context, 32)?;
         let estimates = read_vec3s(&bytes, 16);
-        Ok(estimates.chunks_exact(2).map(|pair| CellIntegral { kronrod: pair[0], gauss: pair[1] }).collect())
+        Ok(estimates
+            .chunks_exact(2)
+            .map(|pair| CellEstimate { kronrod: pair[0].to_array(), gauss: pair[1].to_array() })
+            .collect())
     }
 }
 

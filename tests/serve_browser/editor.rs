@@ -134,6 +134,20 @@ pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path, every
     let worst = lobe_against_plot(&lobe, &scene, "grey", folder);
     eprintln!("the student's lobe against vk-render plot lobe: at most {worst:.2e} of its peak off");
     assert!(worst <= 1e-4, "the browser's lobe against vk-render plot lobe: {worst:.2e} of the peak");
+    // Its albedo, by the library's cubature (WebAssembly) over the browser's albedo probe, against `vk-render
+    // plot albedo` of the file: within the two bounds stated.
+    browser.run("editor.albedo = null; studentStudies();", &[]);
+    browser.wait_for("the student's albedo", "return Boolean(editor.albedo);", Duration::from_secs(120));
+    let albedo = browser.run("return editor.albedo;", &[]);
+    let (share, worst, _) = albedo_against_plot(&albedo, &scene, "grey", folder);
+    eprintln!(
+        "the student's albedo against vk-render plot albedo: at most {worst:.1e} off, {share:.2} of the bounds \
+         stated (the browser's at most {:.1e})",
+        albedo["bound"].as_array().unwrap().iter().map(|b| b.as_f64().unwrap()).fold(0.0, f64::max)
+    );
+    assert!(share <= 1.0, "the browser's albedo against vk-render plot albedo: {share:.2} of the bounds stated");
+    let shown = browser.run("return document.getElementById('editor-albedo-status').textContent;", &[]);
+    assert!(shown.as_str().unwrap().starts_with("its directional albedo at 19 angles"), "{shown}");
     assert_console_clean(browser, "the editor");
     if !everything {
         return;
@@ -227,28 +241,35 @@ pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path, every
     assert!(said.iter().all(|(level, _)| level != "SEVERE"), "the editor's console: {said:?}");
 }
 
+/// How far the page's albedo (`{theta_o, albedo, bound}`: ρ per channel at each angle, and the bound the
+/// browser's cubature reached) is from `vk-render plot albedo` of `material` in scene file `scene` at the same
+/// angles, as a share of what the two stated bounds allow together: 1 is at the allowance. Also the largest
+/// difference itself, and the largest over the albedo (of at least 1e-3).
+pub fn albedo_against_plot(albedo: &Value, scene: &Path, material: &str, folder: &Path) -> (f64, f64, f64) {
+    let (said, rows) = plot_csv("albedo", scene, material, &[], folder);
+    // "... each within 8.8e-6 (asked: 1e-5; ...": the bound the command states.
+    let stated: f64 =
+        said.split("each within ").nth(1).and_then(|rest| rest.split(' ').next()).unwrap().parse().unwrap();
+    let angles = albedo["theta_o"].as_array().unwrap();
+    assert_eq!(angles.len(), 19, "every 5 degrees and 89");
+    let (mut share, mut worst, mut relative) = (0.0f64, 0.0f64, 0.0f64);
+    for (k, angle) in angles.iter().enumerate() {
+        let row = rows.iter().find(|row| Some(row[0]) == angle.as_f64()).expect("an angle the plot has");
+        let allowed = stated + albedo["bound"][k].as_f64().unwrap();
+        for channel in 0..3 {
+            let difference = (albedo["albedo"][k][channel].as_f64().unwrap() - row[1 + channel]).abs();
+            worst = worst.max(difference);
+            share = share.max(difference / allowed);
+            relative = relative.max(difference / row[1 + channel].abs().max(1e-3));
+        }
+    }
+    (share, worst, relative)
+}
+
 /// How far the page's lobe (`{theta_o, values}`: f_r cos θo per channel at θi 30°) is from `vk-render plot
 /// lobe` of `material` in scene file `scene` at the same angles: the largest difference over its peak.
 pub fn lobe_against_plot(lobe: &Value, scene: &Path, material: &str, folder: &Path) -> f64 {
-    let csv = folder.join(format!("{material}-lobe.csv"));
-    let plotted = super::common::vk_render(&[
-        "plot",
-        "lobe",
-        scene.to_str().unwrap(),
-        "--material",
-        material,
-        "--theta-i",
-        "30",
-        "-o",
-        csv.to_str().unwrap(),
-    ]);
-    assert!(plotted.status.success(), "{}", String::from_utf8_lossy(&plotted.stderr));
-    let rows: Vec<Vec<f64>> = std::fs::read_to_string(&csv)
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
+    let (_, rows) = plot_csv("lobe", scene, material, &["--theta-i", "30"], folder);
     assert_eq!(rows.len(), 361);
     assert_eq!(lobe["theta_i"], json!(30));
     let peak = rows.iter().flat_map(|row| row[1..].iter().copied()).fold(0.0, f64::max);
@@ -261,4 +282,20 @@ pub fn lobe_against_plot(lobe: &Value, scene: &Path, material: &str, folder: &Pa
         }
     }
     worst
+}
+
+/// `vk-render plot KIND SCENE --material MATERIAL ARGS -o CSV`: what it said, and the CSV's rows of numbers.
+fn plot_csv(kind: &str, scene: &Path, material: &str, args: &[&str], folder: &Path) -> (String, Vec<Vec<f64>>) {
+    let csv = folder.join(format!("{material}-{kind}.csv"));
+    let command =
+        [&["plot", kind, scene.to_str().unwrap(), "--material", material][..], args, &["-o", csv.to_str().unwrap()]];
+    let plotted = super::common::vk_render(&command.concat());
+    assert!(plotted.status.success(), "{}", String::from_utf8_lossy(&plotted.stderr));
+    let rows = std::fs::read_to_string(&csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (String::from_utf8_lossy(&plotted.stdout).into_owned(), rows)
 }

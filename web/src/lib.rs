@@ -2,11 +2,14 @@
 //! vk-render's build.rs for wasm32-unknown-unknown): the explore page's editor reads a student's `.brdf`
 //! file and wraps its shader for the page's WebGL2 with the very code the renderer uses (crates/brdf-file),
 //! and reads the browser's compiler messages back to the file's own lines and names. Nothing is sent
-//! anywhere: the page compiles the result itself (static/editor.js).
+//! anywhere: the page compiles the result itself (static/editor.js). It also runs the albedo's cubature
+//! (crates/cubature) for the page's WebGL2 albedo probe (`albedo`).
 //!
 //! The interface is plain WebAssembly, no bindings generator: the page writes a UTF-8 text into memory from
 //! [`input`], calls a function with its length, and reads the JSON answer of [`output`]'s length at
 //! [`output`]. One call at a time (a page's script is one thread).
+
+mod albedo;
 
 use std::cell::RefCell;
 

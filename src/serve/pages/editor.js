@@ -42,7 +42,7 @@ vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)
 `;
 
 const editor = {
-  reader: null,     // the WebAssembly's functions (BrdfReader), once loaded
+  reader: null,     // the WebAssembly library (WasmLibrary), once loaded
   templates: null,  // the analytic templates by entry, once fetched
   model: null,      // the model drawn now: what read_brdf answered, with its shaders
   serial: 0,        // models compiled so far: each one's shaders have a name of their own
@@ -50,29 +50,67 @@ const editor = {
   saveTimer: null,
 };
 
-// The library's `.brdf` reader, compiled to WebAssembly (web/src/lib.rs): a text in, a JSON answer out.
-class BrdfReader {
+// The library's code compiled to WebAssembly (web/src/lib.rs): the `.brdf` reader, a text in and a JSON
+// answer out, and the albedo's cubature (crates/cubature). Loaded once, at its first use (library()).
+class WasmLibrary {
   static async load() {
     const response = await fetch("static/vk-render.wasm");
     if (!response.ok) throw new Error(`static/vk-render.wasm: ${response.status} ${response.statusText}`);
     const { instance } = await WebAssembly.instantiate(await response.arrayBuffer(), {});
-    return new BrdfReader(instance.exports);
+    return new WasmLibrary(instance.exports);
   }
 
   constructor(exports) {
     this.exports = exports;
     this.maxBytes = exports.max_text_bytes();
+    this.albedoRuns = 0;
   }
 
-  // `read_brdf` or `read_compiler_log` of `text`.
+  // `read_brdf`, `read_compiler_log` or `albedo_start` of `text`.
   call(name, text) {
     const bytes = new TextEncoder().encode(text);
     const at = this.exports.input(bytes.length);
     if (at === 0) throw new Error(`the text is ${bytes.length} bytes: the editor takes at most ${this.maxBytes}`);
     new Uint8Array(this.exports.memory.buffer, at, bytes.length).set(bytes);
-    const length = this.exports[name](bytes.length);
+    return this.answer(this.exports[name](bytes.length));
+  }
+
+  // The JSON answer of `length` bytes that a call left.
+  answer(length) {
     return JSON.parse(new TextDecoder().decode(new Uint8Array(this.exports.memory.buffer, this.exports.output(), length)));
   }
+
+  // The directional albedo of object `index`'s material (the page's overrides `set` applied) at each of
+  // `angles` (degrees): the library's cubature, as `vk-render plot albedo` runs it, its cells integrated by
+  // this browser's albedo probe (BrowserRenderer.integrateCells). {theta_o, albedo: [[r, g, b]...], bound:
+  // [...], rounds, stopped}; null when a later albedo started meanwhile (one cubature at a time).
+  async albedo(renderer, scene, set, index, angles) {
+    const run = ++this.albedoRuns;
+    let answer = this.call("albedo_start", JSON.stringify({ theta_o: angles }));
+    let stopped = false;
+    while (!answer.error && answer.pending > 0) {
+      const count = answer.pending;
+      const cells = new Float32Array(this.exports.memory.buffer, this.exports.albedo_cells(), 8 * count).slice();
+      const estimates = renderer.integrateCells(scene, set, index, cells, count);
+      for (let k = 0; k < count && !stopped; k++) stopped = estimates[4 * k + 3] !== 0;
+      const at = this.exports.albedo_estimates(count);
+      if (at === 0) throw new Error(`the albedo's ${count} cells were not the ones pending`);
+      new Float32Array(this.exports.memory.buffer, at, 8 * count).set(estimates);
+      answer = this.answer(this.exports.albedo_take());
+      // The page answers between rounds; a newer albedo takes the WebAssembly's cubature over.
+      await new Promise((resolve) => setTimeout(resolve));
+      if (run !== this.albedoRuns) return null;
+    }
+    if (answer.error) throw new Error(answer.error);
+    return { ...this.answer(this.exports.albedo_result()), stopped };
+  }
+}
+
+// The WebAssembly library, loaded at the first call.
+let wasmLibrary = null;
+function library() {
+  if (!wasmLibrary) wasmLibrary = WasmLibrary.load().catch((error) => { wasmLibrary = null; throw error; });
+  return wasmLibrary;
 }
 
 function editorStatus(message) {
@@ -105,7 +143,7 @@ async function drawStudentModel() {
     return editorError(0, "your model is drawn under point lights: choose a scene without an environment (its fast mode needs the material's albedo table, which vk-render makes)");
   }
   try {
-    if (!editor.reader) editor.reader = await BrdfReader.load();
+    if (!editor.reader) editor.reader = await library();
     if (!editor.templates) editor.templates = await getJson("static/brdf-templates.json");
   } catch (error) {
     return editorError(0, `the editor could not start: ${error.message}`);
@@ -142,7 +180,7 @@ async function drawStudentModel() {
 }
 
 // The student's model studied by this browser: its lobe (f_r cos θo in the plane of incidence, by the
-// probe pass), drawn; and said where its loops were stopped.
+// probe pass) and its albedo, drawn; and said where its loops were stopped.
 function studentStudies() {
   const index = page.scene.objects.findIndex((object) => isStudentMaterial(object.material));
   if (index < 0 || !browserHoldsScene()) return;
@@ -155,10 +193,33 @@ function studentStudies() {
   editor.lobe = lobe;
   $("editor-lobe").parentElement.hidden = false;
   drawLobe($("editor-lobe"), lobe.values);
-  const stopped = lobe.stopped;
+  saidStopped(lobe.stopped);
+  studentAlbedo(index);
+}
+
+// Says whether the model's loops were stopped by the page's guard (in its lobe or its albedo).
+function saidStopped(stopped) {
   $("editor-error").textContent = stopped
     ? `its loops ran past ${STOPPED_STEPS} steps in one evaluation (a loop that never ends?): the page stopped them, and draws 0 there`
     : "";
+}
+
+// The student's model's directional albedo, computed by this browser (browserAlbedo), drawn with its bound.
+async function studentAlbedo(index) {
+  const scene = page.scene;
+  $("editor-albedo-status").textContent = "its directional albedo: integrating...";
+  let albedo;
+  try {
+    albedo = await browserAlbedo(index);
+  } catch (error) {
+    if (page.scene === scene) editorError(0, `its albedo: ${error.message}`);
+    return;
+  }
+  if (!albedo || page.scene !== scene) return;
+  editor.albedo = albedo;
+  drawAlbedo($("editor-albedo"), albedo);
+  $("editor-albedo-status").textContent = `its directional albedo at ${albedo.theta_o.length} angles, in ${albedo.rounds} rounds of cells`;
+  if (albedo.stopped) saidStopped(true);
 }
 
 // crates/brdf-file's WEBGL_MAX_LOOP_STEPS: the steps the loops of a model may take in one evaluation.

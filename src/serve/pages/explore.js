@@ -439,6 +439,62 @@ function drawLobe(canvas, lobe) {
   context.fillText(`f_r cos θo, luminance; θi ${LOBE_THETA_I}° (dashed); largest ${shown(largest)}`, 8, 14);
 }
 
+// The directional albedo's chart on `canvas` (what `vk-render plot albedo` draws, per channel): ρ against θo,
+// from 0 to the larger of 1 and its largest value, and the bound on its error.
+function drawAlbedo(canvas, albedo) {
+  const context = canvas.getContext("2d");
+  const [width, height] = [canvas.width, canvas.height];
+  context.clearRect(0, 0, width, height);
+  const top = Math.max(1, ...albedo.albedo.flat().filter(Number.isFinite));
+  const [left, right, upper, lower] = [36, width - 10, 24, height - 22];
+  const at = (theta, rho) => [left + ((right - left) * theta) / 90, lower - ((lower - upper) * rho) / top];
+  context.strokeStyle = "#d0d4d9";
+  context.fillStyle = "#5f6368";
+  context.font = "11px system-ui, sans-serif";
+  context.lineWidth = 1;
+  for (const rho of [0, 0.25, 0.5, 0.75, 1].map((f) => f * top)) {
+    const [, y] = at(0, rho);
+    context.beginPath();
+    context.moveTo(left, y);
+    context.lineTo(right, y);
+    context.stroke();
+    context.fillText(shown(rho, 2), 4, y + 4);
+  }
+  for (const theta of [0, 30, 60, 90]) context.fillText(`${theta}°`, at(theta, 0)[0] - (theta === 90 ? 18 : 6), height - 6);
+  context.lineWidth = 2;
+  ["#c5221f", "#188038", "#1a5fb4"].forEach((colour, channel) => {
+    context.strokeStyle = colour;
+    context.beginPath();
+    albedo.theta_o.forEach((theta, k) => {
+      const [x, y] = at(theta, Number.isFinite(albedo.albedo[k][channel]) ? albedo.albedo[k][channel] : 0);
+      if (k === 0) context.moveTo(x, y);
+      else context.lineTo(x, y);
+    });
+    context.stroke();
+  });
+  context.fillStyle = "#5f6368";
+  context.font = "12px system-ui, sans-serif";
+  context.fillText(`ρ(θo), R G B; error bound ${shown(Math.max(...albedo.bound), 2)}`, 8, 14);
+}
+
+// The directional albedo of object `index`'s material with the page's overrides at ALBEDO_ANGLES, computed
+// by this browser (WasmLibrary.albedo: the library's cubature, this browser's albedo probe); null when a
+// later one started meanwhile. The last one asked is kept: asked again (the editor's and the studies' column
+// of the same model), it is not integrated twice.
+let albedoAsked = null;
+function browserAlbedo(index) {
+  const material = page.scene.objects[index].material;
+  const prefix = `material.${material}.`;
+  const set = Object.fromEntries(Object.entries(page.set).filter(([key]) => key.startsWith(prefix)));
+  const key = JSON.stringify([page.scene.id, material, set]);
+  if (albedoAsked && albedoAsked.key === key && albedoAsked.renderer === page.browser) return albedoAsked.promise;
+  const [renderer, scene] = [page.browser, page.scene];
+  const promise = library().then((wasm) => wasm.albedo(renderer, scene, set, index, ALBEDO_ANGLES));
+  albedoAsked = { key, renderer, promise };
+  promise.catch(() => { if (albedoAsked && albedoAsked.promise === promise) albedoAsked = null; });
+  return promise;
+}
+
 // The lobe of object `index`'s material with the page's overrides, computed by this browser's probe pass
 // (webgl.js: probe): f_r cos θo per channel at each of LOBE_ANGLES, and whether an analytic model's loops
 // were stopped there (a student's model: editor.js).
@@ -456,9 +512,9 @@ function browserHoldsScene() {
   return page.mode === "browser" && Boolean(page.browser) && page.loaded === page.scene;
 }
 
-// A folder of vk-render site: the selected object's lobe, computed by this browser (the server's plots are
-// the server's).
-function siteStudies() {
+// A folder of vk-render site: the selected object's lobe and albedo, computed by this browser (the server's
+// plots are the server's).
+async function siteStudies() {
   const index = Number($("object").value);
   if (!browserHoldsScene() || !page.scene.objects[index]) return;
   try {
@@ -467,6 +523,15 @@ function siteStudies() {
     return showError(`the lobe: ${error.message}`);
   }
   drawLobe($("browser-lobe"), page.lobe.values);
+  const scene = page.scene;
+  try {
+    const albedo = await browserAlbedo(index);
+    if (!albedo || page.scene !== scene) return;
+    page.albedo = albedo;
+    drawAlbedo($("browser-albedo"), albedo);
+  } catch (error) {
+    if (page.scene === scene) showError(`the albedo: ${error.message}`);
+  }
 }
 
 // The outgoing angles of the page's albedo chart, in degrees.
