@@ -35,7 +35,7 @@ logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
 # The packages with tests: vk-render, and the crates the browser runs as WebAssembly (whose tests run here,
 # natively). The Python binding's are pytest's.
-packages=(-p vk-render -p vk-render-brdf-file -p vk-render-cubature -p vk-render-web)
+packages=(-p vk-render -p vk-render-brdf-file -p vk-render-check-rules -p vk-render-cubature -p vk-render-web)
 
 # Every test harness cargo builds (the library's, the binary's, each tests/*.rs), as Cargo's JSON lists them:
 # its source file, as `cargo test` names it (tests/environment.rs), a tab, and its executable.

@@ -15,24 +15,9 @@ use crate::render::Renderer;
 use crate::scene::Scene;
 use crate::vulkan::ShaderSources;
 use catalogue::{Mistake, ShowsOn, Variant};
-
-/// How an image is judged: both images blurred over 3 x 3 pixels (JPEG's block noise averages out), the
-/// pixels within [`EDGE_MARGIN`] of a hard edge of the exact image left out (JPEG rings there: silhouettes,
-/// shadow edges), then per pixel the largest channel difference, in 8-bit levels: its root mean square (which
-/// a small region far off, a highlight of the wrong colour, weighs as it should), 99th percentile and mean.
-pub const EDGE_MARGIN: u32 = 4;
-/// A hard edge: neighbouring pixels more than this many levels apart in the exact image.
-const EDGE_STEP: u8 = 48;
-/// An image matches when the root mean square of its differences is at most [`MATCH_RMS`] levels and their
-/// 99th percentile at most [`MATCH_P99`] (JPEG at quality 75 stays well within both on the practical's
-/// images).
-pub const MATCH_RMS: f64 = 2.0;
-/// The bound on the 99th percentile of the differences, in 8-bit levels: see [`MATCH_RMS`].
-pub const MATCH_P99: u8 = 8;
-/// How much more a bias counts than the spread of the differences in [`Stats::distance`].
-const BIAS_WEIGHT: f64 = 4.0;
-/// A pixel differs when its blurred difference is above [`MATCH_P99`].
-const PIXEL_TOLERANCE: u8 = MATCH_P99;
+pub use check_rules::{
+    blurred, blurred_differences, differences, judged_pixels, Stats, EDGE_MARGIN, MATCH_P99, MATCH_RMS,
+};
 
 /// One candidate explanation: the correct render (no mistake) or a mistake's.
 pub struct Candidate {
@@ -118,127 +103,6 @@ fn rounded(hdr: &crate::HdrImage, scene: &Scene) -> RgbImage {
     RgbImage::from_raw(hdr.width, hdr.height, bytes).unwrap_or_default()
 }
 
-/// Which pixels are judged: those not within [`EDGE_MARGIN`] of a hard edge of the exact image.
-pub fn judged_pixels(exact: &RgbImage) -> Vec<bool> {
-    let (w, h) = exact.dimensions();
-    let step = |a: &image::Rgb<u8>, b: &image::Rgb<u8>| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > EDGE_STEP);
-    let mut judged = vec![true; (w * h) as usize];
-    for y in 0..h {
-        for x in 0..w {
-            let here = exact.get_pixel(x, y);
-            let edge = (x + 1 < w && step(here, exact.get_pixel(x + 1, y)))
-                || (y + 1 < h && step(here, exact.get_pixel(x, y + 1)));
-            if !edge {
-                continue;
-            }
-            let m = EDGE_MARGIN as i64;
-            for ny in (y as i64 - m).max(0)..=(y as i64 + m + 1).min(h as i64 - 1) {
-                for nx in (x as i64 - m).max(0)..=(x as i64 + m + 1).min(w as i64 - 1) {
-                    judged[(ny * w as i64 + nx) as usize] = false;
-                }
-            }
-        }
-    }
-    judged
-}
-
-/// The 3 x 3 box blur of an image (edges clamped).
-fn blurred(image: &RgbImage) -> Vec<[f32; 3]> {
-    let (w, h) = image.dimensions();
-    let mut out = Vec::with_capacity((w * h) as usize);
-    for y in 0..h as i64 {
-        for x in 0..w as i64 {
-            let mut sum = [0.0f32; 3];
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let (sx, sy) = ((x + dx).clamp(0, w as i64 - 1), (y + dy).clamp(0, h as i64 - 1));
-                    let p = image.get_pixel(sx as u32, sy as u32);
-                    for (total, channel) in sum.iter_mut().zip(p.0) {
-                        *total += f32::from(channel);
-                    }
-                }
-            }
-            out.push(sum.map(|s| s / 9.0));
-        }
-    }
-    out
-}
-
-/// The judged difference of two images of one size: per pixel the largest channel difference of the blurred
-/// images, in levels, and the mean of the signed differences of the channels (`a - b`); None for pixels
-/// left out.
-pub fn differences(a: &RgbImage, b: &RgbImage, judged: &[bool]) -> Vec<Option<(f32, f32)>> {
-    blurred_differences(&blurred(a), &blurred(b), judged)
-}
-
-/// [`differences`] of images already blurred (each blurred once however many it is compared with).
-fn blurred_differences(a: &[[f32; 3]], b: &[[f32; 3]], judged: &[bool]) -> Vec<Option<(f32, f32)>> {
-    a.iter()
-        .zip(b)
-        .zip(judged)
-        .map(|((p, q), &j)| {
-            j.then(|| {
-                (
-                    (0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0, f32::max),
-                    (0..3).map(|c| p[c] - q[c]).sum::<f32>() / 3.0,
-                )
-            })
-        })
-        .collect()
-}
-
-/// The statistics of judged differences.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stats {
-    /// Root mean square of the per-pixel differences, in 8-bit levels.
-    pub rms: f64,
-    /// Mean of the per-pixel differences, in levels.
-    pub mean: f64,
-    /// The mean signed difference: JPEG's noise averages out of it, a level's bias does not (rounding
-    /// instead of truncating is half a level brighter everywhere).
-    pub bias: f64,
-    /// 99th percentile of the per-pixel differences, in levels.
-    pub p99: f64,
-    /// The share of judged pixels over the per-pixel tolerance ([`MATCH_P99`] levels).
-    pub over: f64,
-    /// How many pixels were judged.
-    pub judged: usize,
-}
-
-impl Stats {
-    /// The statistics of per-pixel differences as [`differences`] gives them (`None`, a pixel left out, is
-    /// skipped); all zero when no pixel is judged.
-    pub fn of<'a>(differences: impl Iterator<Item = &'a Option<(f32, f32)>>) -> Self {
-        let pairs: Vec<(f32, f32)> = differences.flatten().copied().collect();
-        let mut values: Vec<f32> = pairs.iter().map(|p| p.0).collect();
-        if values.is_empty() {
-            return Self { rms: 0.0, mean: 0.0, bias: 0.0, p99: 0.0, over: 0.0, judged: 0 };
-        }
-        let bias = pairs.iter().map(|p| f64::from(p.1)).sum::<f64>() / pairs.len() as f64;
-        values.sort_by(f32::total_cmp);
-        let n = values.len();
-        Self {
-            rms: (values.iter().map(|&v| f64::from(v) * f64::from(v)).sum::<f64>() / n as f64).sqrt(),
-            bias,
-            mean: values.iter().map(|&v| f64::from(v)).sum::<f64>() / n as f64,
-            p99: f64::from(values[((n - 1) as f64 * 0.99).round() as usize]),
-            over: values.iter().filter(|&&v| v > f32::from(PIXEL_TOLERANCE)).count() as f64 / n as f64,
-            judged: n,
-        }
-    }
-
-    /// How far two images are, for ranking: the root mean square with the bias weighed in
-    /// (`BIAS_WEIGHT` = 4 times), so that a level's bias counts over JPEG's noise.
-    pub fn distance(&self) -> f64 {
-        (self.rms * self.rms + (BIAS_WEIGHT * self.bias).powi(2)).sqrt()
-    }
-
-    /// Within the match tolerance.
-    pub fn matches(&self) -> bool {
-        self.rms <= MATCH_RMS && self.p99 <= f64::from(MATCH_P99)
-    }
-}
-
 /// What the candidates say of an image.
 pub struct Diagnosis {
     /// The image against the correct render.
@@ -263,42 +127,19 @@ pub enum Verdict {
     Unexplained,
 }
 
-/// A mistake explains an image when its difference is at most this share of the correct render's ...
-const EXPLAINS_SHARE: f64 = 0.6;
-/// ... and the image is about as close to it as a JPEG of it would be: within this many times the match
-/// tolerance.
-const EXPLAINS_RMS: f64 = 2.0 * MATCH_RMS;
-/// Mistakes within this share of the best (or this many levels) tie with it.
-const TIE_SHARE: f64 = 1.25;
-const TIE_LEVELS: f64 = 0.25;
-
-/// Ranks the candidates (the first the correct render) by how well they explain `mine`. A mistake is named
-/// when it explains the image clearly better than the correct render, even when the image is within the
-/// tolerance (rounding instead of truncating is at most a level off everywhere).
+/// Ranks the candidates (the first the correct render) by how well they explain `mine`, by the rules of
+/// crates/check-rules ([`check_rules::rank`]), which the browser's check page runs too.
 pub fn diagnose(mine: &RgbImage, candidates: &[Candidate]) -> Diagnosis {
-    let judged = judged_pixels(&candidates[0].image);
-    let mine = blurred(mine);
-    let stats: Vec<Stats> =
-        candidates.iter().map(|c| Stats::of(blurred_differences(&mine, &blurred(&c.image), &judged).iter())).collect();
-    let against_exact = stats[0];
-    let mut ranking: Vec<(Option<&'static Mistake>, f64)> =
-        candidates.iter().zip(&stats).map(|(c, s)| (c.mistake, s.distance())).collect();
-    ranking.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let best = ranking[0].1;
-    let explaining: Vec<&'static Mistake> = ranking
-        .iter()
-        .filter(|(_, rms)| *rms <= (TIE_SHARE * best).max(best + TIE_LEVELS))
-        .filter_map(|(mistake, rms)| {
-            mistake.filter(|_| *rms < EXPLAINS_SHARE * against_exact.distance() && *rms <= EXPLAINS_RMS)
-        })
-        .collect();
-    let verdict = match explaining.as_slice() {
-        [] if against_exact.matches() => Verdict::Matches,
+    let labelled: Vec<(Option<&'static Mistake>, &RgbImage)> =
+        candidates.iter().map(|c| (c.mistake, &c.image)).collect();
+    let ranked = check_rules::rank(mine, &labelled);
+    let verdict = match ranked.explaining.as_slice() {
+        [] if ranked.against_exact.matches() => Verdict::Matches,
         [] => Verdict::Unexplained,
         [one] => Verdict::Mistake(one.name),
         many => Verdict::Tie(many.iter().map(|m| m.name).collect()),
     };
-    Diagnosis { against_exact, ranking, verdict }
+    Diagnosis { against_exact: ranked.against_exact, ranking: ranked.ranking, verdict }
 }
 
 /// Where differences lie: for each object (and the background), in its grazing band (within

@@ -5,6 +5,8 @@ use std::path::Path;
 
 use image::RgbImage;
 
+pub use check_rules::decode_image;
+
 use super::catalogue::{Mistake, ShowsOn, CATALOGUE};
 use super::MATCH_RMS;
 use super::{diagnose, regions, render_candidates, scene_that_tells_apart, Candidate, Diagnosis, Region, Verdict};
@@ -167,24 +169,4 @@ pub fn read_image(path: &Path) -> Result<RgbImage> {
     let error = |message: String| Error::Input { path: path.to_path_buf(), message };
     let bytes = crate::files::read_regular(path, "image", crate::files::MAX_IMAGE_BYTES).map_err(error)?;
     decode_image(&bytes, image::Limits::default()).map_err(error)
-}
-
-/// An image to check from its file's bytes, as [`read_image`] reads it, decoded within `limits`.
-///
-/// # Errors
-/// What is wrong with it, in one line.
-pub fn decode_image(bytes: &[u8], limits: image::Limits) -> std::result::Result<RgbImage, String> {
-    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| format!("not a PNG or JPEG image vk-render can read: {e}"))?;
-    reader.limits(limits);
-    let image = reader.decode().map_err(|e| format!("not a PNG or JPEG image vk-render can read: {e}"))?;
-    match image {
-        image::DynamicImage::ImageRgb8(rgb) => Ok(rgb),
-        image::DynamicImage::ImageRgba8(rgba) => Ok(image::DynamicImage::ImageRgba8(rgba).to_rgb8()),
-        other => Err(format!(
-            "a {:?} image; vk-render compares 8-bit RGB images, as the course's skeleton writes them",
-            other.color()
-        )),
-    }
 }
