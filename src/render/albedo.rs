@@ -6,7 +6,7 @@ use glam::Vec3;
 pub use cubature::{albedo_angles, Albedo, ALBEDO_TOLERANCE, MAX_REFINEMENTS};
 use cubature::{Cell, CellEstimate, Cubature};
 
-use super::{AlbedoCell, AlbedoJob, Renderer};
+use super::{AlbedoJob, Renderer};
 use crate::brdf::Brdf;
 use crate::error::Result;
 
@@ -41,15 +41,7 @@ pub fn directional_albedos(
 fn integrate(renderer: &mut Renderer, jobs: &[AlbedoJob], cells: &[Cell]) -> Result<Vec<CellEstimate>> {
     let mut estimates = Vec::with_capacity(cells.len());
     for batch in cells.chunks(CELLS_PER_DISPATCH) {
-        let gpu_cells: Vec<AlbedoCell> = batch
-            .iter()
-            .map(|cell| AlbedoCell {
-                job: cell.job as u32,
-                theta: (cell.theta.0 as f32, cell.theta.1 as f32),
-                phi: (cell.phi.0 as f32, cell.phi.1 as f32),
-            })
-            .collect();
-        estimates.extend(renderer.probe_albedo_cells(jobs, &gpu_cells)?);
+        estimates.extend(renderer.probe_albedo_cells(jobs, batch)?);
     }
     Ok(estimates)
 }

@@ -43,7 +43,7 @@ use measured::MeasuredTables;
 use passes::MeshUploads;
 pub use picture::Picture;
 use probe::{read_vec3s, ProbeContext, ProbePass};
-pub use probe::{AlbedoCell, AlbedoJob, ProbeCase};
+pub use probe::{AlbedoJob, ProbeCase};
 use resolve::{Readout, ResolvePass};
 pub use sampler::{BrdfSample, SamplerDensity};
 use scene_data::SceneData;
@@ -577,7 +577,7 @@ impl Renderer {
     pub fn probe_albedo_cells(
         &mut self,
         jobs: &[AlbedoJob],
-        cells: &[AlbedoCell],
+        cells: &[cubature::Cell],
     ) -> Result<Vec<cubature::CellEstimate>> {
         self.with_probe(jobs.iter().map(|j| &j.brdf), |probe, context| probe.integrate(jobs, cells, context))
     }

@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use ash::vk;
-use cubature::CellEstimate;
+use cubature::{Cell, CellEstimate};
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
@@ -54,18 +54,6 @@ pub struct AlbedoJob {
     pub wo: Vec3,
 }
 
-/// One cell of the hemisphere of wi for a job: theta_i and phi_i from the first bound to the second
-/// (radians).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AlbedoCell {
-    /// Its job's index in the list of jobs.
-    pub job: u32,
-    /// theta_i's bounds, radians from the normal.
-    pub theta: (f32, f32),
-    /// phi_i's bounds, radians from +x.
-    pub phi: (f32, f32),
-}
-
 /// `AlbedoJob` of `shaders/brdf_albedo.comp` (std430).
 #[repr(C)]
 #[derive(Clone, Copy)]
@@ -74,7 +62,7 @@ pub(super) struct GpuAlbedoJob {
     pub(super) wo: [f32; 4],
 }
 
-/// `AlbedoCell` of `shaders/brdf_albedo.comp` (std430).
+/// `AlbedoCell` of `shaders/brdf_albedo.comp` (std430): a cell of crates/cubature in single precision.
 #[repr(C)]
 #[derive(Clone, Copy)]
 struct GpuAlbedoCell {
@@ -294,7 +282,7 @@ impl ProbePass {
     pub fn integrate(
         &mut self,
         jobs: &[AlbedoJob],
-        cells: &[AlbedoCell],
+        cells: &[Cell],
         context: ProbeContext,
     ) -> Result<Vec<CellEstimate>> {
         let gpu_jobs: Vec<GpuAlbedoJob> = jobs
@@ -306,10 +294,10 @@ impl ProbePass {
             .collect();
         let jobs_buffer =
             self.device.create_buffer_with_data(&gpu_jobs, vk::BufferUsageFlags::STORAGE_BUFFER, "albedo jobs")?;
-        let brdf_of = |cell: &AlbedoCell| &jobs[cell.job as usize].brdf;
-        let element = |cell: &AlbedoCell| GpuAlbedoCell {
-            bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1],
-            job: cell.job,
+        let brdf_of = |cell: &Cell| &jobs[cell.job].brdf;
+        let element = |cell: &Cell| GpuAlbedoCell {
+            bounds: [cell.theta.0, cell.theta.1, cell.phi.0, cell.phi.1].map(|bound| bound as f32),
+            job: cell.job as u32,
             pad: [0; 3],
         };
         let bytes = run_by_brdf(&self.device, &mut self.albedo, cells, brdf_of, element, &[&jobs_buffer], context, 32)?;

@@ -483,13 +483,11 @@ function drawAlbedo(canvas, albedo) {
 // of the same model), it is not integrated twice.
 let albedoAsked = null;
 function browserAlbedo(index) {
-  const material = page.scene.objects[index].material;
-  const prefix = `material.${material}.`;
-  const set = Object.fromEntries(Object.entries(page.set).filter(([key]) => key.startsWith(prefix)));
-  const key = JSON.stringify([page.scene.id, material, set]);
+  const state = studiedState(index);
+  const key = JSON.stringify(state);
   if (albedoAsked && albedoAsked.key === key && albedoAsked.renderer === page.browser) return albedoAsked.promise;
   const [renderer, scene] = [page.browser, page.scene];
-  const promise = library().then((wasm) => wasm.albedo(renderer, scene, set, index, ALBEDO_ANGLES));
+  const promise = library().then((wasm) => wasm.albedo(renderer, scene, state.set, index, ALBEDO_ANGLES));
   albedoAsked = { key, renderer, promise };
   promise.catch(() => { if (albedoAsked && albedoAsked.promise === promise) albedoAsked = null; });
   return promise;
@@ -545,10 +543,10 @@ function studiesLater() {
   studiesTimer = setTimeout(studies, 250);
 }
 
-// The selected object's material and the overrides that change it (the lobe and the albedo depend on these
-// alone: moving the camera or a light asks the server for nothing).
-function studiedState() {
-  const object = page.scene.objects[Number($("object").value)];
+// Object `index`'s material (the selected object's by default) and the overrides that change it (the lobe
+// and the albedo depend on these alone: moving the camera or a light asks the server for nothing).
+function studiedState(index = Number($("object").value)) {
+  const object = page.scene.objects[index];
   if (!object) return null;
   const prefix = `material.${object.material}.`;
   const set = Object.fromEntries(Object.entries(page.set).filter(([key]) => key.startsWith(prefix)));
