@@ -37,12 +37,13 @@ fn main() {
     link_glslang_and_spirv_tools();
 }
 
-/// Builds the crate web/ (the library's code the pages run: a student's `.brdf` read and wrapped for WebGL2)
-/// for wasm32-unknown-unknown into `$OUT_DIR/vk-render.wasm`, which the server and `vk-render site` hand out
+/// Builds the crate web/ (the library's code the pages run: a student's `.brdf` read and wrapped for WebGL2,
+/// the albedo's cubature, the check's rules) for wasm32-unknown-unknown into `$OUT_DIR/vk-render.wasm`, which the server and `vk-render site` hand out
 /// as `static/vk-render.wasm`. A cargo of its own, with its own target folder under OUT_DIR (this build's
 /// holds its lock), offline and locked: the crates it uses are this build's.
 fn build_web_assembly() {
-    for folder in ["web", "crates/brdf-file"] {
+    // web/ and the device-free crates it is built from (crates/).
+    for folder in ["web", "crates"] {
         println!("cargo:rerun-if-changed={folder}");
     }
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));

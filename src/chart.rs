@@ -437,7 +437,8 @@ const NO_VALUE: RGBColor = RGBColor(150, 150, 150);
 impl HeatMapChart {
     fn colour(&self, value: f64) -> RGBColor {
         let (low, high) = self.range;
-        ViridisRGB::get_color(((value - low) / (high - low)).clamp(0.0, 1.0))
+        let [r, g, b] = check_rules::viridis((value - low) / (high - low));
+        RGBColor(r, g, b)
     }
 }
 

@@ -33,36 +33,9 @@ impl std::fmt::Display for Comparison {
     }
 }
 
-/// Marks the pixels within `radius` pixels (Chebyshev distance) of a change of object id, where a
-/// rasterizer's coverage and a ray tracer's centre sample legitimately disagree.
-pub fn silhouette_band(object_ids: &[Option<usize>], width: u32, height: u32, radius: u32) -> Vec<bool> {
-    let (w, h, r) = (width as i64, height as i64, radius as i64);
-    let id = |x: i64, y: i64| object_ids[(y * w + x) as usize];
-    let mut edge = vec![false; object_ids.len()];
-    for y in 0..h {
-        for x in 0..w {
-            let here = id(x, y);
-            let differs = (x + 1 < w && id(x + 1, y) != here) || (y + 1 < h && id(x, y + 1) != here);
-            if differs {
-                edge[(y * w + x) as usize] = true;
-            }
-        }
-    }
-    let mut band = vec![false; object_ids.len()];
-    for y in 0..h {
-        for x in 0..w {
-            if !edge[(y * w + x) as usize] {
-                continue;
-            }
-            for by in (y - r).max(0)..=(y + r + 1).min(h - 1) {
-                for bx in (x - r).max(0)..=(x + r + 1).min(w - 1) {
-                    band[(by * w + bx) as usize] = true;
-                }
-            }
-        }
-    }
-    band
-}
+/// The pixels near a change of object id, where a rasterizer's coverage and a ray tracer's centre sample
+/// legitimately disagree (crates/check-rules: a check's grazing band is the same).
+pub use check_rules::silhouette_band;
 
 /// Compares two images of the same size, leaving out the pixels where `excluded` is true.
 pub fn compare(candidate: &RgbImage, reference: &RgbImage, excluded: &[bool]) -> Comparison {

@@ -2,8 +2,8 @@
 //! its colour bar (`vk-render compare`). Drawn straight into an 8-bit image so that the images keep their
 //! exact pixels.
 
+use check_rules::{viridis, DifferenceMap};
 use image::{Rgb, RgbImage};
-use plotters::style::colors::colormaps::ViridisRGB;
 
 use crate::compare::{compare, Comparison};
 use crate::sheet::paste;
@@ -21,49 +21,16 @@ const BAR_LABELS: u32 = 64;
 pub struct Difference {
     /// The differences' statistics, in 8-bit levels.
     pub stats: Comparison,
-    /// Per pixel, row by row from the top, the largest channel difference in levels.
-    pub levels: Vec<u8>,
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
+    /// Per pixel the largest channel difference, its heat map and where it is worst (as the browser's check
+    /// page draws it too).
+    pub map: DifferenceMap,
 }
 
 impl Difference {
     /// The differences of two images of one size.
     pub fn of(a: &RgbImage, b: &RgbImage) -> Self {
-        let levels = a
-            .pixels()
-            .zip(b.pixels())
-            .map(|(p, q)| (0..3).map(|c| p.0[c].abs_diff(q.0[c])).max().unwrap_or(0))
-            .collect();
-        Self {
-            stats: compare(a, b, &vec![false; (a.width() * a.height()) as usize]),
-            levels,
-            width: a.width(),
-            height: a.height(),
-        }
+        Self { stats: compare(a, b, &vec![false; (a.width() * a.height()) as usize]), map: DifferenceMap::of(a, b) }
     }
-
-    /// The largest level the colour bar spans: the largest difference, at least 1.
-    pub fn scale(&self) -> u8 {
-        self.levels.iter().copied().max().unwrap_or(0).max(1)
-    }
-
-    /// The differences in viridis, 0 dark blue to [`Difference::scale`] yellow.
-    pub fn heat_map(&self) -> RgbImage {
-        let scale = f64::from(self.scale());
-        let mut map = RgbImage::new(self.width, self.height);
-        for (pixel, &level) in map.pixels_mut().zip(&self.levels) {
-            *pixel = viridis(f64::from(level) / scale);
-        }
-        map
-    }
-}
-
-fn viridis(x: f64) -> Rgb<u8> {
-    let colour = ViridisRGB::get_color(x.clamp(0.0, 1.0));
-    Rgb([colour.0, colour.1, colour.2])
 }
 
 /// The images side by side under a title, each labelled under it, then the colour bar of a difference map
@@ -85,7 +52,7 @@ pub fn side_by_side(title: &str, panels: &[(String, RgbImage)], scale: Option<u8
     if let Some(scale) = scale {
         let x = width - BAR_WIDTH - BAR_LABELS;
         for y in 0..panel_h {
-            let colour = viridis(1.0 - f64::from(y) / f64::from(panel_h.max(2) - 1));
+            let colour = Rgb(viridis(1.0 - f64::from(y) / f64::from(panel_h.max(2) - 1)));
             for dx in 0..BAR_WIDTH {
                 sheet.put_pixel(x + dx, top + y, colour);
             }

@@ -8,7 +8,6 @@ pub mod summary;
 
 use image::RgbImage;
 
-use crate::analysis::Channel;
 use crate::error::{Error, Result};
 use crate::output::tonemap;
 use crate::render::Renderer;
@@ -16,7 +15,8 @@ use crate::scene::Scene;
 use crate::vulkan::ShaderSources;
 use catalogue::{Mistake, ShowsOn, Variant};
 pub use check_rules::{
-    blurred, blurred_differences, differences, judged_pixels, Stats, EDGE_MARGIN, MATCH_P99, MATCH_RMS,
+    blurred, blurred_differences, differences, judged_pixels, regions, Region, Stats, EDGE_MARGIN, GRAZING_BAND,
+    MATCH_P99, MATCH_RMS,
 };
 
 /// One candidate explanation: the correct render (no mistake) or a mistake's.
@@ -114,18 +114,8 @@ pub struct Diagnosis {
     pub verdict: Verdict,
 }
 
-/// What the diagnosis concludes.
-#[derive(Debug, PartialEq)]
-pub enum Verdict {
-    /// The image is the correct one, within the tolerance.
-    Matches,
-    /// One mistake explains it clearly better than the correct render and any other mistake.
-    Mistake(&'static str),
-    /// Several mistakes explain it about as well: the scene cannot tell them apart.
-    Tie(Vec<&'static str>),
-    /// No mistake explains it.
-    Unexplained,
-}
+/// What the diagnosis concludes, the mistakes named by their names in the catalogue.
+pub type Verdict = check_rules::Verdict<&'static str>;
 
 /// Ranks the candidates (the first the correct render) by how well they explain `mine`, by the rules of
 /// crates/check-rules ([`check_rules::rank`]), which the browser's check page runs too.
@@ -133,75 +123,8 @@ pub fn diagnose(mine: &RgbImage, candidates: &[Candidate]) -> Diagnosis {
     let labelled: Vec<(Option<&'static Mistake>, &RgbImage)> =
         candidates.iter().map(|c| (c.mistake, &c.image)).collect();
     let ranked = check_rules::rank(mine, &labelled);
-    let verdict = match ranked.explaining.as_slice() {
-        [] if ranked.against_exact.matches() => Verdict::Matches,
-        [] => Verdict::Unexplained,
-        [one] => Verdict::Mistake(one.name),
-        many => Verdict::Tie(many.iter().map(|m| m.name).collect()),
-    };
+    let verdict = ranked.verdict().map(|mistake| mistake.name);
     Diagnosis { against_exact: ranked.against_exact, ranking: ranked.ranking, verdict }
-}
-
-/// Where differences lie: for each object (and the background), in its grazing band (within
-/// [`GRAZING_BAND`] pixels of its silhouette), its highlight (its brightest 5% in the exact image), its unlit
-/// part (black in the exact image: shadowed or facing away from every light) and the rest, its lit body:
-/// the statistics of the judged pixels of each.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Region {
-    /// The object's index in the scene, None for the background.
-    pub object: Option<usize>,
-    /// "lit body", "unlit part", "highlight", "grazing band", or "open part" (the background's).
-    pub part: &'static str,
-    /// The differences over its judged pixels.
-    pub stats: Stats,
-}
-
-/// An object's pixels darker than this (in levels of luminance) in the exact image are its unlit part.
-const UNLIT_LEVEL: f32 = 2.0;
-
-/// Pixels this close to a change of object id are an object's grazing band.
-pub const GRAZING_BAND: u32 = 6;
-
-/// The differences of `mine` from the exact image, region by region (`object_ids` per pixel, from the CPU
-/// reference at the image's size): every region with judged pixels.
-pub fn regions(mine: &RgbImage, exact: &RgbImage, object_ids: &[Option<usize>]) -> Vec<Region> {
-    let (w, h) = exact.dimensions();
-    let judged = judged_pixels(exact);
-    let diffs = differences(mine, exact, &judged);
-    let band = crate::compare::silhouette_band(object_ids, w, h, GRAZING_BAND);
-    let luminance = |p: &image::Rgb<u8>| Channel::Luminance.of(p.0.map(f64::from)) as f32;
-    let mut ids: Vec<Option<usize>> = object_ids.to_vec();
-    ids.sort();
-    ids.dedup();
-    let mut regions = Vec::new();
-    for id in ids {
-        let pixels: Vec<usize> = (0..object_ids.len()).filter(|&i| object_ids[i] == id).collect();
-        let mut brightness: Vec<f32> =
-            pixels.iter().map(|&i| luminance(exact.get_pixel(i as u32 % w, i as u32 / w))).collect();
-        brightness.sort_by(f32::total_cmp);
-        let highlight = brightness.get(brightness.len() * 95 / 100).copied().unwrap_or(f32::INFINITY).max(1.0);
-        let part_of = |i: usize| {
-            let here = luminance(exact.get_pixel(i as u32 % w, i as u32 / w));
-            if band[i] {
-                "grazing band"
-            } else if id.is_none() {
-                "open part"
-            } else if here >= highlight {
-                "highlight"
-            } else if here < UNLIT_LEVEL {
-                "unlit part"
-            } else {
-                "lit body"
-            }
-        };
-        for part in ["open part", "lit body", "unlit part", "highlight", "grazing band"] {
-            let stats = Stats::of(pixels.iter().filter(|&&i| part_of(i) == part).map(|&i| &diffs[i]));
-            if stats.judged > 0 {
-                regions.push(Region { object: id, part, stats });
-            }
-        }
-    }
-    regions
 }
 
 /// The scene of the practical that tells `mistakes` apart best, among those where each shows (the

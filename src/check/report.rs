@@ -104,12 +104,7 @@ impl Checked {
 
     /// The mistakes the diagnosis names: one, the tied ones, or none.
     pub fn mistakes(&self) -> Vec<&'static Mistake> {
-        let names: &[&str] = match &self.diagnosis.verdict {
-            Verdict::Mistake(name) => std::slice::from_ref(name),
-            Verdict::Tie(names) => names,
-            Verdict::Matches | Verdict::Unexplained => &[],
-        };
-        names.iter().filter_map(|name| CATALOGUE.iter().find(|m| m.name == *name)).collect()
+        self.diagnosis.verdict.mistakes().iter().filter_map(|name| CATALOGUE.iter().find(|m| m.name == *name)).collect()
     }
 }
 

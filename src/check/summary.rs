@@ -4,8 +4,8 @@
 use serde::Serialize;
 
 use super::report::Checked;
-use super::{Stats, Verdict};
 use crate::scene::Scene;
+pub use check_rules::{RegionStatistics, Statistics};
 
 /// The outcome of a check, in the words of `vk-render check`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -39,31 +39,6 @@ pub struct NamedMistake {
     pub looks_like: &'static str,
 }
 
-/// Differences in 8-bit levels.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Statistics {
-    /// Root mean square of the per-pixel differences.
-    pub rms: f64,
-    /// Mean of the per-pixel differences.
-    pub mean: f64,
-    /// 99th percentile of the per-pixel differences.
-    pub p99: f64,
-    /// The share of the judged pixels over the match's per-pixel tolerance.
-    pub over: f64,
-}
-
-/// The statistics of one region of one object (`object` None: the background).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RegionStatistics {
-    /// The object's index in the scene, `None` for the background.
-    pub object: Option<usize>,
-    /// "lit body", "unlit part", "highlight", "grazing band", or "open part" (the background).
-    pub part: &'static str,
-    /// Its differences (flattened into the region's own object in JSON).
-    #[serde(flatten)]
-    pub statistics: Statistics,
-}
-
 /// An object's parameters fitted to the image where they differ from the scene's.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct WrongParameter {
@@ -90,24 +65,6 @@ fn by_name<S: serde::Serializer>(values: &[(String, Vec<f32>)], serializer: S) -
     serializer.collect_map(values.iter().map(|(name, v)| (name, v)))
 }
 
-impl From<&Stats> for Statistics {
-    fn from(s: &Stats) -> Self {
-        Self { rms: s.rms, mean: s.mean, p99: s.p99, over: s.over }
-    }
-}
-
-impl Verdict {
-    /// The verdict's one word.
-    pub fn word(&self) -> &'static str {
-        match self {
-            Verdict::Matches => "matches",
-            Verdict::Mistake(_) => "mistake",
-            Verdict::Tie(_) => "tie",
-            Verdict::Unexplained => "unexplained",
-        }
-    }
-}
-
 impl Summary {
     /// The summary of `checked`, a check of an image against `scene`.
     pub fn of(checked: &Checked, scene: &Scene) -> Self {
@@ -121,11 +78,7 @@ impl Summary {
                 looks_like: m.looks_like,
             })
             .collect();
-        let regions = checked
-            .regions
-            .iter()
-            .map(|r| RegionStatistics { object: r.object, part: r.part, statistics: (&r.stats).into() })
-            .collect();
+        let regions = checked.regions.iter().map(RegionStatistics::from).collect();
         let wrong_parameters = checked
             .wrong_parameters
             .iter()

@@ -193,7 +193,7 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
         let mut panels = vec![
             ("yours".to_string(), mine.clone()),
             ("exact".to_string(), exact.clone()),
-            (format!("|yours - exact|, 0 to {} levels", difference.scale()), difference.heat_map()),
+            (format!("|yours - exact|, 0 to {} levels", difference.map.scale()), difference.map.heat_map()),
         ];
         if let Some(m) = diagnosed {
             if let Some(candidate) = checked.candidates.iter().find(|c| c.mistake.is_some_and(|c| c.name == m.name)) {
@@ -203,7 +203,7 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
         let name =
             mine_path.file_name().map_or_else(|| mine_path.display().to_string(), |n| n.to_string_lossy().into_owned());
         let title = format!("{name} against {scene_name}: {}", verdict_line(&diagnosis.verdict));
-        write_png(&side_by_side(&title, &panels, Some(difference.scale())), report)?;
+        write_png(&side_by_side(&title, &panels, Some(difference.map.scale())), report)?;
     }
     Ok(diagnosis.verdict == Verdict::Matches)
 }

@@ -58,14 +58,14 @@ pub fn run(args: CompareArgs, options: RendererOptions) -> anyhow::Result<()> {
     let (image_a, image_b) = (render_png_pixels(&mut renderer, &a)?, render_png_pixels(&mut renderer, &b)?);
     let difference = Difference::of(&image_a, &image_b);
     let stats = &difference.stats;
-    let differing = difference.levels.iter().filter(|&&level| level > 0).count();
+    let differing = difference.map.levels.iter().filter(|&&level| level > 0).count();
     println!(
         "mean {:.3} levels, p99 {}, max {} (8-bit levels of the PNGs, largest channel); {:.2}% of the pixels differ, \
          {:.2}% by more than 3 levels",
         stats.mean_abs,
         stats.p99,
         stats.max,
-        100.0 * differing as f64 / difference.levels.len() as f64,
+        100.0 * differing as f64 / difference.map.levels.len() as f64,
         100.0 * stats.fraction_over_3
     );
     let name = |path: &PathBuf| {
@@ -81,9 +81,9 @@ pub fn run(args: CompareArgs, options: RendererOptions) -> anyhow::Result<()> {
             ),
             image_b,
         ),
-        (format!("|A - B|, 0 to {} levels", difference.scale()), difference.heat_map()),
+        (format!("|A - B|, 0 to {} levels", difference.map.scale()), difference.map.heat_map()),
     ];
     let title = format!("mean {:.3}, p99 {}, max {} levels", stats.mean_abs, stats.p99, stats.max);
-    write_png(&side_by_side(&title, &panels, Some(difference.scale())), &args.output)?;
+    write_png(&side_by_side(&title, &panels, Some(difference.map.scale())), &args.output)?;
     Ok(())
 }

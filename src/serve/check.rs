@@ -201,39 +201,6 @@ fn closest_figure<'a>(
     best.map(|(_, e)| e).ok_or_else(|| ApiError::bad_request("the server has no figure to match the image with".into()))
 }
 
-/// The side of the magnifier's square: a sixth of the image's shorter side, at least 16 pixels.
-fn magnified_side(width: u32, height: u32) -> u32 {
-    (width.min(height) / 6).max(16).min(width.min(height))
-}
-
-/// Where the differences are worst: the square of [`magnified_side`] whose summed difference is largest,
-/// searched at a quarter of its side.
-fn worst_region(difference: &Difference) -> (u32, u32, u32) {
-    let (w, h) = (difference.width, difference.height);
-    let side = magnified_side(w, h);
-    // Summed-area table of the levels.
-    let mut sums = vec![0u64; ((w + 1) * (h + 1)) as usize];
-    for y in 0..h {
-        let mut row = 0u64;
-        for x in 0..w {
-            row += u64::from(difference.levels[(y * w + x) as usize]);
-            sums[((y + 1) * (w + 1) + x + 1) as usize] = sums[(y * (w + 1) + x + 1) as usize] + row;
-        }
-    }
-    let at = |x: u32, y: u32| sums[(y * (w + 1) + x) as usize];
-    let step = (side / 4).max(1);
-    let mut best = (0, 0, 0u64);
-    for y in (0..=h - side).step_by(step as usize) {
-        for x in (0..=w - side).step_by(step as usize) {
-            let total = at(x + side, y + side) + at(x, y) - at(x + side, y) - at(x, y + side);
-            if total > best.2 {
-                best = (x, y, total);
-            }
-        }
-    }
-    (best.0, best.1, side)
-}
-
 /// The answer to a check (without its report's address) and the report's pictures.
 fn report_of(
     mine: &RgbImage,
@@ -244,11 +211,11 @@ fn report_of(
 ) -> Result<(Json, Pictures), ApiError> {
     let summary = Summary::of(checked, scene);
     let difference = Difference::of(mine, checked.exact());
-    let (x, y, side) = worst_region(&difference);
+    let (x, y, side) = difference.map.worst_region();
     let mut pictures = vec![
         ("yours", png_bytes(mine)?),
         ("exact", png_bytes(checked.exact())?),
-        ("difference", png_bytes(&difference.heat_map())?),
+        ("difference", png_bytes(&difference.map.heat_map())?),
     ];
     let diagnosed = summary.mistakes.first().map(|m| m.name);
     if let Some(name) = diagnosed {
@@ -263,7 +230,7 @@ fn report_of(
     json["scene_chosen_by_server"] = json!(chosen);
     json["width"] = json!(mine.width());
     json["height"] = json!(mine.height());
-    json["difference_scale"] = json!(difference.scale());
+    json["difference_scale"] = json!(difference.map.scale());
     json["worst_region"] = json!({"x": x, "y": y, "width": side, "height": side});
     json["pictures"] = json!(pictures.iter().map(|(name, _)| *name).collect::<Vec<_>>());
     json["mistake_picture"] = json!(diagnosed);

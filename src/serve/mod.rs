@@ -16,6 +16,7 @@ mod limits;
 mod pages;
 mod reports;
 pub mod site;
+mod site_check;
 mod workers;
 
 use std::net::SocketAddr;

@@ -13,13 +13,14 @@ use super::auth::{Access, SESSION_COOKIE};
 use super::App;
 
 /// One embedded file: its path under /static/, its type and its bytes. `vk-render.wasm` is the library's
-/// code the editor runs (web/, built for WebAssembly by build.rs).
+/// code the editor and a site's check page run (web/, built for WebAssembly by build.rs).
 const STATIC: &[(&str, &str, &[u8])] = &[
     ("style.css", "text/css; charset=utf-8", include_bytes!("pages/style.css")),
     ("site.js", "text/javascript; charset=utf-8", include_bytes!("pages/site.js")),
     ("common.js", "text/javascript; charset=utf-8", include_bytes!("pages/common.js")),
     ("explore.js", "text/javascript; charset=utf-8", include_bytes!("pages/explore.js")),
     ("webgl.js", "text/javascript; charset=utf-8", include_bytes!("pages/webgl.js")),
+    ("wasm.js", "text/javascript; charset=utf-8", include_bytes!("pages/wasm.js")),
     ("editor.js", "text/javascript; charset=utf-8", include_bytes!("pages/editor.js")),
     ("check.js", "text/javascript; charset=utf-8", include_bytes!("pages/check.js")),
     ("report.js", "text/javascript; charset=utf-8", include_bytes!("pages/report.js")),
@@ -31,7 +32,7 @@ const STATIC: &[(&str, &str, &[u8])] = &[
 /// server's (its own `static/site.js` aside, which the site writes), where the pages' relative links find them.
 pub fn site_files() -> impl Iterator<Item = (String, &'static [u8])> {
     let pages = [("index.html", INDEX), ("explore.html", EXPLORE), ("check.html", CHECK)];
-    let scripts = STATIC.iter().filter(|(name, _, _)| !matches!(*name, "site.js" | "report.js"));
+    let scripts = STATIC.iter().filter(|(name, _, _)| name != &"site.js");
     pages
         .into_iter()
         .map(|(name, text)| (name.to_string(), text.as_bytes()))

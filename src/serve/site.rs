@@ -3,7 +3,8 @@
 //! files), its own `static/site.js` (what tells the scripts that they read files, not the API), the
 //! translated shaders, and in `data/` what the API would answer for each catalogue scene, written once: the
 //! scene list, each object's mesh, each measured table, each `.brdf` model's shaders, each environment and
-//! each material's albedo table at the scene's own values (src/serve/pages/common.js's `dataUrl` names them).
+//! each material's albedo table at the scene's own values (src/serve/pages/common.js's `dataUrl` names them),
+//! and in `data/check/` the renders the check page decides with (src/serve/site_check.rs).
 //! Every link is relative, so the folder works from any sub-path.
 
 use std::collections::hash_map::{Entry as Slot, HashMap};
@@ -19,7 +20,7 @@ use vk_render::{Renderer, RendererOptions};
 
 use super::catalogue::{Catalogue, Entry};
 use super::error::ApiError;
-use super::{api, browser, pages};
+use super::{api, browser, pages, site_check};
 
 #[derive(Args)]
 pub struct SiteArgs {
@@ -87,7 +88,7 @@ fn size(folder: &Path) -> anyhow::Result<(usize, u64)> {
     Ok(total)
 }
 
-fn put(folder: &Path, name: &str, bytes: &[u8]) -> anyhow::Result<()> {
+pub(super) fn put(folder: &Path, name: &str, bytes: &[u8]) -> anyhow::Result<()> {
     let path = folder.join(name);
     if let Some(parent) = path.parent() {
         std::fs::create_dir_all(parent).with_context(|| format!("{}: cannot make the folder", parent.display()))?;
@@ -155,5 +156,9 @@ fn write(folder: &Path, catalogue: &Catalogue, options: RendererOptions) -> anyh
         }
     }
     put(folder, "data/scenes.json", serde_json::to_string(&scenes)?.as_bytes())?;
-    Ok(())
+    let renderer = match &mut renderer {
+        Some(renderer) => renderer,
+        None => renderer.insert(Renderer::new(options)?),
+    };
+    site_check::write(folder, catalogue, renderer)
 }

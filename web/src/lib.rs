@@ -3,13 +3,15 @@
 //! file and wraps its shader for the page's WebGL2 with the very code the renderer uses (crates/brdf-file),
 //! and reads the browser's compiler messages back to the file's own lines and names. Nothing is sent
 //! anywhere: the page compiles the result itself (static/editor.js). It also runs the albedo's cubature
-//! (crates/cubature) for the page's WebGL2 albedo probe (`albedo`).
+//! (crates/cubature) for the page's WebGL2 albedo probe (`albedo`), and the check of a student's image by
+//! `vk-render check`'s rules (crates/check-rules) for a site's check page (`check`).
 //!
 //! The interface is plain WebAssembly, no bindings generator: the page writes a UTF-8 text into memory from
-//! [`input`], calls a function with its length, and reads the JSON answer of [`output`]'s length at
+//! [`input`] (an image file's bytes from [`image_input`]), calls a function with its length, and reads the JSON answer of [`output`]'s length at
 //! [`output`]. One call at a time (a page's script is one thread).
 
 mod albedo;
+mod check;
 
 use std::cell::RefCell;
 
@@ -22,14 +24,26 @@ pub const MAX_TEXT_BYTES: usize = 256 << 10;
 
 thread_local! {
     static INPUT: RefCell<Vec<u8>> = const { RefCell::new(Vec::new()) };
-    static OUTPUT: RefCell<Vec<u8>> = const { RefCell::new(Vec::new()) };
+    pub(crate) static OUTPUT: RefCell<Vec<u8>> = const { RefCell::new(Vec::new()) };
 }
 
 /// Room for an input of `length` bytes (at most [`MAX_TEXT_BYTES`] and a log's 64 KiB more): where the page
 /// writes it, or 0 when it is longer.
 #[no_mangle]
 pub extern "C" fn input(length: usize) -> *mut u8 {
-    if length > MAX_TEXT_BYTES + (64 << 10) {
+    room(length, MAX_TEXT_BYTES + (64 << 10))
+}
+
+/// Room for an image file of `length` bytes (at most [`check::MAX_IMAGE_BYTES`]) in the input, where the
+/// page writes it for the check's calls, or 0 when it is longer.
+#[no_mangle]
+pub extern "C" fn image_input(length: usize) -> *mut u8 {
+    room(length, check::MAX_IMAGE_BYTES)
+}
+
+/// The input made `length` bytes long, where the page writes; null when that is over `most`.
+fn room(length: usize, most: usize) -> *mut u8 {
+    if length > most {
         return std::ptr::null_mut();
     }
     INPUT.with_borrow_mut(|input| {
@@ -66,6 +80,11 @@ pub extern "C" fn read_compiler_log(length: usize) -> usize {
 
 fn input_text(length: usize) -> String {
     INPUT.with_borrow(|input| String::from_utf8_lossy(&input[..length.min(input.len())]).into_owned())
+}
+
+/// `read` of the input's first `length` bytes.
+fn input_bytes<R>(length: usize, read: impl FnOnce(&[u8]) -> R) -> R {
+    INPUT.with_borrow(|input| read(&input[..length.min(input.len())]))
 }
 
 fn answer(value: &Value) -> usize {

@@ -2,9 +2,17 @@
 //! the image's size, compared in a way JPEG cannot fool, and ranked by how well each explains it. No device
 //! here: vk-render renders the candidates and decides with this crate (src/check), and the browser's check
 //! page (a `vk-render site` folder) decides with the same crate compiled to WebAssembly (`web/`), against
-//! renders made at `site` time, so that the two verdicts cannot differ by a rule.
+//! renders made at `site` time, so that the two verdicts cannot differ by a rule. What the check shows beside
+//! its verdict (the statistics per region, the map of differences and where they are worst) is made here too.
+
+mod difference;
+mod regions;
 
 use image::RgbImage;
+use serde::Serialize;
+
+pub use difference::{viridis, DifferenceMap};
+pub use regions::{regions, silhouette_band, Region, RegionStatistics, GRAZING_BAND};
 
 /// How an image is judged: both images blurred over 3 x 3 pixels (JPEG's block noise averages out), the
 /// pixels within [`EDGE_MARGIN`] of a hard edge of the exact image left out (JPEG rings there: silhouettes,
@@ -166,6 +174,81 @@ pub struct Ranked<L> {
     /// The mistakes that explain the image (clearly better than the correct render, and about as well as the
     /// best): none, one, or several that the scene cannot tell apart.
     pub explaining: Vec<L>,
+}
+
+/// What a check concludes of an image, its mistakes labelled `L`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verdict<L> {
+    /// The image is the correct one, within the tolerance.
+    Matches,
+    /// One mistake explains it clearly better than the correct render and any other mistake.
+    Mistake(L),
+    /// Several mistakes explain it about as well: the scene cannot tell them apart.
+    Tie(Vec<L>),
+    /// No mistake explains it.
+    Unexplained,
+}
+
+impl<L: Copy> Ranked<L> {
+    /// The verdict: the mistakes that explain the image, else whether it is within the tolerance.
+    pub fn verdict(&self) -> Verdict<L> {
+        match self.explaining.as_slice() {
+            [] if self.against_exact.matches() => Verdict::Matches,
+            [] => Verdict::Unexplained,
+            [one] => Verdict::Mistake(*one),
+            many => Verdict::Tie(many.to_vec()),
+        }
+    }
+}
+
+impl<L> Verdict<L> {
+    /// The verdict's one word, as reports and JSON name it.
+    pub fn word(&self) -> &'static str {
+        match self {
+            Verdict::Matches => "matches",
+            Verdict::Mistake(_) => "mistake",
+            Verdict::Tie(_) => "tie",
+            Verdict::Unexplained => "unexplained",
+        }
+    }
+
+    /// The same verdict with its mistakes labelled `label(mistake)`.
+    pub fn map<M>(self, label: impl Fn(L) -> M) -> Verdict<M> {
+        match self {
+            Verdict::Matches => Verdict::Matches,
+            Verdict::Mistake(one) => Verdict::Mistake(label(one)),
+            Verdict::Tie(many) => Verdict::Tie(many.into_iter().map(label).collect()),
+            Verdict::Unexplained => Verdict::Unexplained,
+        }
+    }
+
+    /// The mistakes it names: one, the tied ones, or none.
+    pub fn mistakes(&self) -> &[L] {
+        match self {
+            Verdict::Mistake(one) => std::slice::from_ref(one),
+            Verdict::Tie(many) => many,
+            Verdict::Matches | Verdict::Unexplained => &[],
+        }
+    }
+}
+
+/// Differences in 8-bit levels, as a check's report states them.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Statistics {
+    /// Root mean square of the per-pixel differences.
+    pub rms: f64,
+    /// Mean of the per-pixel differences.
+    pub mean: f64,
+    /// 99th percentile of the per-pixel differences.
+    pub p99: f64,
+    /// The share of the judged pixels over the match's per-pixel tolerance.
+    pub over: f64,
+}
+
+impl From<&Stats> for Statistics {
+    fn from(s: &Stats) -> Self {
+        Self { rms: s.rms, mean: s.mean, p99: s.p99, over: s.over }
+    }
 }
 
 /// Ranks the candidates (the first the correct render, `None`; each other labelled) by how well they explain

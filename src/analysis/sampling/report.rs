@@ -4,7 +4,6 @@
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::colors::colormaps::ViridisRGB;
 
 use super::{SamplingReport, ViewOutcome, GRID};
 use crate::chart::{short_number, text, Chart, Drawn};
@@ -84,7 +83,10 @@ fn draw_view<DB: DrawingBackend>(row: &DrawingArea<DB, Shift>, view: &ViewOutcom
             }
         })
         .collect();
-    let count_colour = |v: f64| ViridisRGB::get_color((v / most).clamp(0.0, 1.0));
+    let count_colour = |v: f64| {
+        let [r, g, b] = check_rules::viridis(v / most);
+        RGBColor(r, g, b)
+    };
     let panels = row.split_evenly((1, 3));
     let counts = format!("0 to {most:.0} a cell");
     draw_panel(&panels[0], &format!("samples ({counts})"), &observed, count_colour)?;

@@ -1,11 +1,8 @@
 // A check's report: the verdict, the mistakes named and explained, the statistics, and the pictures: yours
 // beside the exact one, the difference as a heat map (viridis: it reads in grey and for colour-blind
-// readers) and a magnifier on the worst region.
+// readers) and a magnifier on the worst region. The server's report page (/reports/ID) shows a report the
+// API kept; a site's check page (check.js) one its WebAssembly made, with the same showReport.
 "use strict";
-
-const $ = (id) => document.getElementById(id);
-const id = location.pathname.split("/").pop();
-const picture = (name) => `/api/reports/${id}/${name}.png`;
 
 function verdictLine(report) {
   if (report.matches) return "matches: your image is the exact one within the tolerance";
@@ -45,12 +42,12 @@ function statistics(report) {
   return el("table", { id: "statistics" }, ...rows);
 }
 
-function figure(name, caption, ...below) {
+function figure(picture, name, caption, ...below) {
   return el("figure", {}, el("img", { src: picture(name), alt: caption, "data-picture": name }), el("figcaption", { text: caption }), ...below);
 }
 
 // The worst region of each picture, magnified four times; moving over your image moves it.
-function magnifier(report) {
+function magnifier(report, picture) {
   const region = report.worst_region;
   const canvases = ["yours", "exact", "difference"].map((name) => {
     const canvas = el("canvas", { width: String(region.width), height: String(region.height), "data-magnified": name });
@@ -78,7 +75,29 @@ function magnifier(report) {
   return box;
 }
 
-async function start() {
+// The report into `target`: `picture(name)` the address of each picture ("yours", "exact", "difference",
+// and "mistake" where report.mistake_picture names one), `closing` its last line.
+function showReport(target, report, picture, closing) {
+  const verdict = el("p", { id: "verdict", class: `verdict ${report.matches ? "matches" : "differs"}`, "data-verdict": report.verdict, text: verdictLine(report) });
+  const against = `${report.width} x ${report.height} against ${report.scene_title}${report.scene_chosen_by_server ? " (the closest figure)" : ""}`;
+  const bar = el("div", { class: "colour-bar" }, el("span", { text: "0" }), el("span", { class: "ramp" }), el("span", { text: `${report.difference_scale} levels` }));
+  const pictures = el("div", { class: "pictures" }, figure(picture, "yours", "yours"), figure(picture, "exact", "exact"), figure(picture, "difference", "|yours - exact|, the largest channel's difference", bar));
+  if (report.mistake_picture) pictures.append(figure(picture, "mistake", `the exact image with ${report.mistake_picture}`));
+  const zoom = magnifier(report, picture);
+  target.replaceChildren(
+    verdict,
+    el("p", { class: "muted", text: against }),
+    mistakes(report),
+    el("h2", { text: "Pictures" }), pictures, zoom,
+    el("h2", { text: "Differences, in 8-bit levels" }), statistics(report),
+    el("p", { class: "muted", text: closing }));
+  zoom.follow(pictures.querySelector("img"));
+}
+
+// The server's report page: the report of the address's id.
+async function loadReport() {
+  const $ = (id) => document.getElementById(id);
+  const id = location.pathname.split("/").pop();
   let report;
   try {
     report = await getJson(`/api/reports/${id}`);
@@ -88,20 +107,7 @@ async function start() {
     return;
   }
   const minutes = Math.round(report.expires_in_seconds / 60);
-  const verdict = el("p", { id: "verdict", class: `verdict ${report.matches ? "matches" : "differs"}`, "data-verdict": report.verdict, text: verdictLine(report) });
-  const against = `${report.width} x ${report.height} against ${report.scene_title}${report.scene_chosen_by_server ? " (the closest figure)" : ""}`;
-  const bar = el("div", { class: "colour-bar" }, el("span", { text: "0" }), el("span", { class: "ramp" }), el("span", { text: `${report.difference_scale} levels` }));
-  const pictures = el("div", { class: "pictures" }, figure("yours", "yours"), figure("exact", "exact"), figure("difference", "|yours - exact|, the largest channel's difference", bar));
-  if (report.mistake_picture) pictures.append(figure("mistake", `the exact image with ${report.mistake_picture}`));
-  const zoom = magnifier(report);
-  $("report").replaceChildren(
-    verdict,
-    el("p", { class: "muted", text: against }),
-    mistakes(report),
-    el("h2", { text: "Pictures" }), pictures, zoom,
-    el("h2", { text: "Differences, in 8-bit levels" }), statistics(report),
-    el("p", { class: "muted", text: `This report and your image are kept ${minutes} minutes at this address, then forgotten.` }));
-  zoom.follow(pictures.querySelector("img"));
+  showReport($("report"), report, (name) => `/api/reports/${id}/${name}.png`, `This report and your image are kept ${minutes} minutes at this address, then forgotten.`);
 }
 
-start();
+if (document.body.dataset.page === "report") loadReport();
