@@ -608,7 +608,10 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     ]);
     assert!(written.status.success(), "{}", String::from_utf8_lossy(&written.stderr));
     let said = String::from_utf8_lossy(&written.stdout);
-    assert!(said.starts_with(&format!("site: {} (", site.display())) && said.contains(" MB)"), "{said}");
+    assert!(
+        said.starts_with(&format!("site: {} (", site.display())) && said.contains(" MB, the check page's renders "),
+        "{said}"
+    );
     for page in ["index.html", "explore.html", "check.html"] {
         let text = std::fs::read_to_string(site.join(page)).unwrap();
         assert!(!text.contains("=\"/"), "{page} links to an absolute path: {text}");

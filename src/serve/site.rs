@@ -63,11 +63,14 @@ pub fn run(args: SiteArgs, options: RendererOptions) -> anyhow::Result<()> {
     }
     std::fs::rename(&partial, output).with_context(|| format!("-o {}: cannot write it", output.display()))?;
     let (files, bytes) = size(output)?;
+    let (_, check_bytes) = size(&output.join("data/check"))?;
     println!(
-        "site: {} ({} scenes, {files} files, {:.1} MB): serve it as it is, e.g. python3 -m http.server -d {}",
+        "site: {} ({} scenes, {files} files, {:.1} MB, the check page's renders {:.1} MB of it): serve it as it is, \
+         e.g. python3 -m http.server -d {}",
         output.display(),
         catalogue.entries().count(),
         bytes as f64 / 1e6,
+        check_bytes as f64 / 1e6,
         output.display()
     );
     Ok(())

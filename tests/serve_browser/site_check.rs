@@ -153,6 +153,7 @@ pub fn the_check_in_the_browser(browser: &Browser, url: &str, folder: &Path) {
         "return [...document.images].every((i) => i.complete && i.naturalWidth > 0);",
         Duration::from_secs(30),
     );
+    browser.run("document.getElementById('verdict').scrollIntoView();", &[]);
     super::save_screenshot(browser, "site-check.png");
     seconds.sort_by(f64::total_cmp);
     eprintln!(
