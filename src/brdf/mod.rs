@@ -12,6 +12,7 @@ pub mod measured;
 pub mod measured_sampler;
 mod oren_nayar;
 mod phong;
+pub mod rgl;
 #[cfg(test)]
 mod tests;
 

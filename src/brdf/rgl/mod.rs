@@ -1,0 +1,187 @@
+//! Measured materials of RGL's database (Dupuy and Jakob 2018, "An Adaptive Parameterization for Efficient
+//! Material Acquisition and Rendering"): `.bsdf` files, Mitsuba's tensor files ([`tensor`]) holding the
+//! material's NDF, its projected area, per incident direction the warp of visible normals and the measured
+//! values at the warp's sample points. Evaluated as the paper defines the parameterisation (and Mitsuba 3's
+//! `measured` plugin reads it): the half vector's point in the NDF's square, that point's sample under the
+//! incident direction's VNDF warp, the values interpolated there, times D(m) / (4 sigma(wi)) when the file
+//! says its values hold the warp's Jacobian.
+//!
+//! Directions: the file's incident direction is Mitsuba's `wi`, which in a camera path is the direction
+//! towards the viewer; vk-render's `wo` (the view) is it, and its `wi` (the light) the file's outgoing one,
+//! whose cosine the file's values include (Mitsuba's `eval` returns f_r cos(theta_o)): f_r is divided by it.
+
+pub mod tabulate;
+pub mod tensor;
+pub mod warp;
+
+use std::f32::consts::PI;
+
+use glam::{Vec2, Vec3};
+
+use tensor::{Field, Fields, Values};
+use warp::Grid2D;
+
+/// The largest `.bsdf` file read: RGL's spectral files are about 20 MB.
+pub const MAX_RGL_BYTES: u64 = 512 << 20;
+
+/// An RGL material in memory.
+#[derive(Clone, Debug)]
+pub struct RglTable {
+    /// The file's `description`.
+    pub description: String,
+    /// D over the NDF's square (x: theta_m as [`theta_to_unit`], y: phi_m as [`phi_to_unit`]).
+    ndf: Grid2D,
+    /// The projected area sigma(wi) over the same square of incident directions.
+    sigma: Grid2D,
+    /// Per incident direction (phi_i, theta_i), the density of visible normals over the NDF's square.
+    vndf: Grid2D,
+    /// Per incident direction and channel (red 0, green 1, blue 2), the values over the sample square.
+    rgb: Grid2D,
+    /// One or two phi_i: the material's values depend on phi_m - phi_i only.
+    isotropic: bool,
+    /// How many times the file's phi_i range fits in a turn (2 or 4: the material is that symmetric and the
+    /// directions are folded into the range), 1 otherwise.
+    reduction: u32,
+    /// Whether the values hold the warp's Jacobian (then times D(m) / (4 sigma(wi))).
+    jacobian: bool,
+}
+
+/// theta in [0, pi/2] to the square's coordinate: sqrt(theta / (pi/2)), finer near the normal.
+pub fn theta_to_unit(theta: f32) -> f32 {
+    (theta * (2.0 / PI)).max(0.0).sqrt()
+}
+
+/// The inverse of [`theta_to_unit`].
+pub fn unit_to_theta(u: f32) -> f32 {
+    u * u * (PI / 2.0)
+}
+
+/// phi in [-pi, pi] to [0, 1].
+pub fn phi_to_unit(phi: f32) -> f32 {
+    (phi + PI) / (2.0 * PI)
+}
+
+/// The inverse of [`phi_to_unit`].
+pub fn unit_to_phi(u: f32) -> f32 {
+    (2.0 * u - 1.0) * PI
+}
+
+/// The angle of a unit vector from the normal (0, 0, 1), accurate near it: 2 asin(|d - n| / 2).
+pub fn elevation(d: Vec3) -> f32 {
+    2.0 * (0.5 * (d - Vec3::Z).length()).clamp(-1.0, 1.0).asin()
+}
+
+/// `x` negated where `s` is positive or zero: a direction folded by the sign of the incident one's
+/// coordinate (which itself ends negative).
+fn against_sign(x: f32, s: f32) -> f32 {
+    if s >= 0.0 {
+        -x
+    } else {
+        x
+    }
+}
+
+fn floats<'a>(fields: &'a Fields, name: &str, rank: usize) -> Result<(&'a [usize], &'a [f32]), String> {
+    match fields.get(name) {
+        Some(Field { shape, values: Values::Floats(values) }) if shape.len() == rank => Ok((shape, values)),
+        Some(Field { shape, .. }) => {
+            Err(format!("field `{name}`: shape {shape:?}, where an RGL file has {rank} dimensions of float32"))
+        }
+        None => Err(format!("no field `{name}`: not an RGL material file")),
+    }
+}
+
+impl RglTable {
+    /// The material of a tensor file's fields.
+    ///
+    /// # Errors
+    /// A field missing, of the wrong type or rank, shapes that do not agree, in one line.
+    pub fn from_fields(fields: &Fields) -> Result<Self, String> {
+        let description = match fields.get("description") {
+            Some(Field { values: Values::Bytes(b), .. }) => String::from_utf8_lossy(b).into_owned(),
+            _ => return Err("no field `description` of uint8: not an RGL material file".into()),
+        };
+        let jacobian = match fields.get("jacobian") {
+            Some(Field { shape, values: Values::Bytes(b) }) if shape == &[1] => b[0] != 0,
+            _ => return Err("no field `jacobian` (one uint8): not an RGL material file".into()),
+        };
+        let (_, theta_i) = floats(fields, "theta_i", 1)?;
+        let (_, phi_i) = floats(fields, "phi_i", 1)?;
+        let (ndf_shape, ndf) = floats(fields, "ndf", 2)?;
+        let (sigma_shape, sigma) = floats(fields, "sigma", 2)?;
+        let (vndf_shape, vndf) = floats(fields, "vndf", 4)?;
+        if fields.contains_key("spectra") && !fields.contains_key("rgb") {
+            return Err("a spectral RGL file (`spectra`): vk-render reads the RGB ones (`rgb`) so far".into());
+        }
+        let (rgb_shape, rgb) = floats(fields, "rgb", 5)?;
+        let incident = [phi_i.len(), theta_i.len()];
+        if vndf_shape[..2] != incident || rgb_shape[..2] != incident || rgb_shape[2] != 3 {
+            return Err(format!(
+                "shapes that do not agree: `vndf` {vndf_shape:?} and `rgb` {rgb_shape:?} for {} phi_i and {} theta_i (rgb: 3 channels)",
+                phi_i.len(),
+                theta_i.len()
+            ));
+        }
+        let angles = vec![phi_i.to_vec(), theta_i.to_vec()];
+        fn named(name: &'static str) -> impl Fn(String) -> String {
+            move |message| format!("field `{name}`: {message}")
+        }
+        let grid = |values: &[f32], shape: &[usize], name: &'static str| {
+            Grid2D::function(values.to_vec(), shape[1], shape[0], Vec::new()).map_err(named(name))
+        };
+        let isotropic = phi_i.len() <= 2;
+        let span = phi_i[phi_i.len() - 1] - phi_i[0];
+        let reduction = if isotropic || span <= 0.0 { 1 } else { (2.0 * PI / span).round() as u32 };
+        Ok(Self {
+            description,
+            ndf: grid(ndf, ndf_shape, "ndf")?,
+            sigma: grid(sigma, sigma_shape, "sigma")?,
+            vndf: Grid2D::density(vndf.to_vec(), vndf_shape[3], vndf_shape[2], angles.clone())
+                .map_err(named("vndf"))?,
+            rgb: Grid2D::function(
+                rgb.to_vec(),
+                rgb_shape[4],
+                rgb_shape[3],
+                vec![angles[0].clone(), angles[1].clone(), vec![0.0, 1.0, 2.0]],
+            )
+            .map_err(named("rgb"))?,
+            isotropic,
+            reduction,
+            jacobian,
+        })
+    }
+
+    /// f_r for the light's direction `light` and the view `view`, in the surface's frame (the normal +z, the
+    /// tangent +x); zero below the horizon.
+    pub fn eval_local(&self, light: Vec3, view: Vec3) -> Vec3 {
+        if light.z <= 0.0 || view.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        // The file's incident direction is the view (see the module's text).
+        let (mut incident, mut outgoing) = (view, light);
+        if self.reduction >= 2 {
+            let sy = incident.y;
+            let sx = if self.reduction == 4 { incident.x } else { sy };
+            for d in [&mut incident, &mut outgoing] {
+                d.x = against_sign(d.x, sx);
+                d.y = against_sign(d.y, sy);
+            }
+        }
+        let m = (incident + outgoing).normalize();
+        let (theta_i, phi_i) = (elevation(incident), incident.y.atan2(incident.x));
+        let (theta_m, phi_m) = (elevation(m), m.y.atan2(m.x));
+        let u_i = Vec2::new(theta_to_unit(theta_i), phi_to_unit(phi_i));
+        let relative = if self.isotropic { phi_m - phi_i } else { phi_m };
+        let mut u_m = Vec2::new(theta_to_unit(theta_m), phi_to_unit(relative));
+        u_m.y -= u_m.y.floor();
+        let (sample, _) = self.vndf.invert(u_m, &[phi_i, theta_i]);
+        let mut value = Vec3::from_array([0, 1, 2].map(|c| self.rgb.eval(sample, &[phi_i, theta_i, c as f32])));
+        if self.jacobian {
+            value *= self.ndf.eval(u_m, &[]) / (4.0 * self.sigma.eval(u_i, &[]));
+        }
+        value / outgoing.z
+    }
+}
+
+#[cfg(test)]
+mod tests;
