@@ -34,7 +34,7 @@ pub extern "C" fn input(length: usize) -> *mut u8 {
     room(length, MAX_TEXT_BYTES + (64 << 10))
 }
 
-/// Room for an image file of `length` bytes (at most [`check::MAX_IMAGE_BYTES`]) in the input, where the
+/// Room for an image file of `length` bytes (at most 16 MiB, `check::MAX_IMAGE_BYTES`) in the input, where the
 /// page writes it for the check's calls, or 0 when it is longer.
 #[no_mangle]
 pub extern "C" fn image_input(length: usize) -> *mut u8 {
