@@ -9,7 +9,11 @@
 //! Directions: the file's incident direction is Mitsuba's `wi`, which in a camera path is the direction
 //! towards the viewer; vk-render's `wo` (the view) is it, and its `wi` (the light) the file's outgoing one,
 //! whose cosine the file's values include (Mitsuba's `eval` returns f_r cos(theta_o)): f_r is divided by it.
+//!
+//! An RGB file's `rgb` values are read as linear sRGB; a spectral file's `spectra` are reduced to them at
+//! reading ([`spectrum`]: CIE 1931 under E, adapted to D65, sRGB's primaries).
 
+pub mod spectrum;
 pub mod tabulate;
 pub mod tensor;
 pub mod warp;
@@ -91,6 +95,31 @@ fn floats<'a>(fields: &'a Fields, name: &str, rank: usize) -> Result<(&'a [usize
     }
 }
 
+/// A spectral file's `spectra` (phi_i, theta_i, wavelength, y, x) as RGB values of the same shape with 3
+/// channels ([`spectrum::rgb_weights`]: linear, so reduced at the nodes as between them).
+fn spectra_as_rgb(fields: &Fields) -> Result<(Vec<usize>, Vec<f32>), String> {
+    let (shape, spectra) = floats(fields, "spectra", 5)?;
+    let (_, wavelengths) = floats(fields, "wavelengths", 1)?;
+    if shape[2] != wavelengths.len() {
+        return Err(format!("field `spectra`: shape {shape:?} for {} wavelengths", wavelengths.len()));
+    }
+    let weights = spectrum::rgb_weights(wavelengths).map_err(|e| format!("field `wavelengths`: {e}"))?;
+    let nodes = shape[3] * shape[4];
+    let mut rgb = Vec::with_capacity(spectra.len() / shape[2] * 3);
+    for grid in spectra.chunks_exact(shape[2] * nodes) {
+        let mut channels = vec![Vec3::ZERO; nodes];
+        for (values, weight) in grid.chunks_exact(nodes).zip(&weights) {
+            for (channel, &v) in channels.iter_mut().zip(values) {
+                *channel += *weight * v;
+            }
+        }
+        for c in 0..3 {
+            rgb.extend(channels.iter().map(|v| v[c]));
+        }
+    }
+    Ok((vec![shape[0], shape[1], 3, shape[3], shape[4]], rgb))
+}
+
 impl RglTable {
     /// The material of a tensor file's fields.
     ///
@@ -110,10 +139,13 @@ impl RglTable {
         let (ndf_shape, ndf) = floats(fields, "ndf", 2)?;
         let (sigma_shape, sigma) = floats(fields, "sigma", 2)?;
         let (vndf_shape, vndf) = floats(fields, "vndf", 4)?;
-        if fields.contains_key("spectra") && !fields.contains_key("rgb") {
-            return Err("a spectral RGL file (`spectra`): vk-render reads the RGB ones (`rgb`) so far".into());
-        }
-        let (rgb_shape, rgb) = floats(fields, "rgb", 5)?;
+        let (rgb_shape, rgb) = if fields.contains_key("rgb") {
+            let (shape, values) = floats(fields, "rgb", 5)?;
+            (shape.to_vec(), values.to_vec())
+        } else {
+            spectra_as_rgb(fields)?
+        };
+        let rgb_shape = rgb_shape.as_slice();
         let incident = [phi_i.len(), theta_i.len()];
         if vndf_shape[..2] != incident || rgb_shape[..2] != incident || rgb_shape[2] != 3 {
             return Err(format!(
@@ -139,7 +171,7 @@ impl RglTable {
             vndf: Grid2D::density(vndf.to_vec(), vndf_shape[3], vndf_shape[2], angles.clone())
                 .map_err(named("vndf"))?,
             rgb: Grid2D::function(
-                rgb.to_vec(),
+                rgb,
                 rgb_shape[4],
                 rgb_shape[3],
                 vec![angles[0].clone(), angles[1].clone(), vec![0.0, 1.0, 2.0]],

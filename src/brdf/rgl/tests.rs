@@ -34,6 +34,13 @@ fn a_constant_file_evaluates_as_computed_by_hand() {
     fields.insert("jacobian".into(), Field::bytes(vec![0]));
     let table = RglTable::from_fields(&fields).unwrap();
     assert!((table.eval_local(light, unit(20.0, 0.0)) - Vec3::new(0.2, 0.4, 0.6)).abs().max_element() < 1e-5);
+    // A spectral file of a flat spectrum 0.3: the grey (0.3, 0.3, 0.3) (within the reduction's 1e-3).
+    fields.remove("rgb");
+    fields.insert("wavelengths".into(), Field::floats(vec![5], vec![380.0, 480.0, 580.0, 680.0, 780.0]));
+    fields.insert("spectra".into(), Field::floats(vec![1, 2, 5, 2, 2], vec![0.3; 40]));
+    let table = RglTable::from_fields(&fields).unwrap();
+    let grey = table.eval_local(light, unit(20.0, 0.0)) * 0.5;
+    assert!((grey - Vec3::splat(0.3)).abs().max_element() < 1e-3, "{grey}");
 }
 
 #[test]
@@ -50,7 +57,9 @@ fn fields_missing_or_not_agreeing_are_named() {
     fields.insert("sigma".into(), Field::floats(vec![2, 2], vec![1.0; 4]));
     fields.insert("vndf".into(), Field::floats(vec![1, 3, 2, 2], vec![1.0; 12]));
     fields.insert("spectra".into(), Field::floats(vec![1, 2, 4, 2, 2], vec![1.0; 32]));
-    assert!(RglTable::from_fields(&fields).unwrap_err().contains("spectral"));
+    assert!(RglTable::from_fields(&fields).unwrap_err().contains("no field `wavelengths`"));
+    fields.insert("wavelengths".into(), Field::floats(vec![3], vec![400.0, 500.0, 600.0]));
+    assert!(RglTable::from_fields(&fields).unwrap_err().contains("for 3 wavelengths"));
     fields.insert("rgb".into(), Field::floats(vec![1, 2, 3, 2, 2], vec![1.0; 24]));
     assert!(RglTable::from_fields(&fields).unwrap_err().contains("do not agree"));
 }
