@@ -233,14 +233,18 @@ impl MeasuredTable {
         bytes
     }
 
-    /// Reads and checks a MERL file; the error is one line naming the file and saying what is wrong with it.
+    /// Reads and checks a MERL file, or an RGL `.bsdf` file (told by its first bytes, `tensor_file`: see
+    /// [`MeasuredTable::from_rgl`]); the error is one line naming the file and saying what is wrong with it.
     ///
     /// # Errors
     /// The file is missing, not a regular file, of the wrong size or dimensions, holds a NaN or an infinity,
-    /// or measures nothing.
+    /// or measures nothing; for an RGL file, what [`super::rgl`] finds wrong, or an anisotropic material.
     pub fn read(path: &Path) -> Result<Self, String> {
-        let bytes = crate::files::read_regular(path, "MERL file", FILE_BYTES)?;
+        let bytes = crate::files::read_regular(path, "measured file", FILE_BYTES.max(super::rgl::MAX_RGL_BYTES))?;
         let shown = path.display();
+        if bytes.starts_with(super::rgl::tensor::MAGIC) {
+            return Self::from_rgl(path, &bytes);
+        }
         if bytes.len() < 12 {
             return Err(format!("the MERL file {shown} is {} bytes, too short for its header", bytes.len()));
         }
@@ -284,6 +288,28 @@ impl MeasuredTable {
             return Err(format!("the MERL file {shown} measures nothing: every value is negative"));
         }
         Ok(Self::new(path.to_path_buf(), rgb))
+    }
+}
+
+impl MeasuredTable {
+    /// An isotropic RGL material resampled into a table: the reader's f_r ([`super::rgl::RglTable`]) at the
+    /// centre of every entry, as [`MeasuredTable::tabulate`] tabulates a model, so that every command that
+    /// takes a measured table takes it. An anisotropic one is refused: the table's half and difference angles
+    /// have no azimuth of the half vector.
+    ///
+    /// # Errors
+    /// The tensor file or its fields, in one line naming the file; an anisotropic material.
+    pub fn from_rgl(path: &Path, bytes: &[u8]) -> Result<Self, String> {
+        let shown = path.display();
+        let fields = super::rgl::tensor::parse(bytes).map_err(|e| format!("the RGL file {shown}: {e}"))?;
+        let material = super::rgl::RglTable::from_fields(&fields).map_err(|e| format!("the RGL file {shown}: {e}"))?;
+        if !material.isotropic() {
+            return Err(format!(
+                "the RGL file {shown} is anisotropic: vk-render's measured tables are isotropic (MERL's half and \
+                 difference angles), and reads isotropic RGL files only so far"
+            ));
+        }
+        Ok(Self::tabulate(path.to_path_buf(), |wi, wo| material.eval_local(wi, wo)))
     }
 }
 

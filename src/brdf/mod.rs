@@ -6,7 +6,7 @@
 
 pub mod analytic;
 mod blinn_phong;
-mod cook_torrance;
+pub(crate) mod cook_torrance;
 mod lambert;
 pub mod measured;
 pub mod measured_sampler;

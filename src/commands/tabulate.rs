@@ -1,6 +1,7 @@
 //! `vk-render tabulate`: a material written as a MERL file, as if measured (its Rust mirror evaluated at the
 //! centre of every entry; a .brdf file's own GLSL, on the GPU), to load as `brdf = "measured"` or into any
-//! tool that reads MERL files.
+//! tool that reads MERL files; or, a built-in model, as an RGL `.bsdf` file (`--output NAME.bsdf`: the
+//! paper's parameterisation, src/brdf/rgl/tabulate.rs).
 
 use std::path::PathBuf;
 
@@ -9,7 +10,7 @@ use clap::Args;
 use super::SetArgs;
 use vk_render::analysis::{describe, select_materials, tabulated};
 use vk_render::brdf::measured::FILE_BYTES;
-use vk_render::brdf::{Brdf, MeasuredTable};
+use vk_render::brdf::{rgl, Brdf, MeasuredTable};
 use vk_render::{Renderer, RendererOptions, Scene};
 
 #[derive(Args)]
@@ -21,8 +22,9 @@ pub struct TabulateArgs {
     #[arg(long, value_name = "NAME")]
     material: String,
 
-    /// The MERL file to write (90 x 90 x 180 entries, 34,992,012 bytes).
-    #[arg(short, long, value_name = "OUT.binary")]
+    /// The file to write: a MERL file (90 x 90 x 180 entries, 34,992,012 bytes), or with the extension
+    /// .bsdf an RGL file (a built-in model; about 0.6 MB).
+    #[arg(short, long, value_name = "OUT.binary|OUT.bsdf")]
     output: PathBuf,
 
     #[command(flatten)]
@@ -34,6 +36,21 @@ pub struct TabulateArgs {
 pub fn run(args: TabulateArgs, options: RendererOptions) -> anyhow::Result<()> {
     let scene = Scene::load(&args.scene, &args.set.overrides)?;
     let target = select_materials(&scene, Some(std::slice::from_ref(&args.material)))?.remove(0);
+    if args.output.extension().is_some_and(|e| e == "bsdf") {
+        let description = format!("vk-render tabulate: {} ({})", target.name, describe(&target.brdf));
+        let fields = rgl::tabulate::tabulate_model(&target.brdf, &description)
+            .map_err(|e| anyhow::anyhow!("--material {}: {e}", args.material))?;
+        let bytes = rgl::tensor::write(&fields);
+        vk_render::output::write_file(&args.output, &bytes)?;
+        println!(
+            "{} ({}) tabulated: {} (an RGL file, {} bytes)",
+            target.name,
+            describe(&target.brdf),
+            args.output.display(),
+            bytes.len()
+        );
+        return Ok(());
+    }
     let table = match &target.brdf {
         Brdf::Analytic(_) => {
             let mut renderer = super::CommandRenderer::new(Renderer::new(options)?);

@@ -1,6 +1,7 @@
 //! An independent CPU reference: one ray per pixel centre through the same camera, exact spheres and
 //! planes, meshes through parry3d's ray queries, hard shadows by shadow rays, shading with the Rust BRDF
-//! mirror (a measured material by its own reading of the file, `merl.rs`), an environment's light by Monte
+//! mirror (a measured material by its own reading of the file, `merl.rs`, or an RGL file's own reader,
+//! `brdf::rgl`, where the GPU's is a resampled table), an environment's light by Monte
 //! Carlo (`environment.rs`). It shares nothing with the GPU path but the scene, the BRDF mirror, the
 //! environment's map and the output transform, so the rasterized images can be checked against it.
 
@@ -17,6 +18,7 @@ use glam::{Mat3, Vec3};
 use parry3d::query::{Ray, RayCast};
 use parry3d::shape::TriMesh;
 
+use crate::brdf::rgl::{is_rgl_file, RglTable};
 use crate::brdf::Brdf;
 use crate::environment::{EnvironmentMap, PlacedEnvironment};
 use crate::error::{Error, Result};
@@ -79,15 +81,18 @@ const MIN_NOV: f32 = 1e-4;
 
 /// An object's reflectance as the reference evaluates it: a model by the Rust mirror (a `.brdf` file's, for
 /// the models shipped in `assets/brdfs/`), a measured one by the reference's own reading of its file.
+#[derive(Clone)]
 enum Reflectance {
     Model(Brdf),
     Measured(Arc<MerlFile>),
+    /// An RGL file, by its own reader (not resampled into a table as the GPU's is).
+    Rgl(Arc<RglTable>),
 }
 
 impl Reflectance {
     /// Each object's, every file read once.
     fn of_objects(scene: &Scene) -> Result<Vec<Reflectance>> {
-        let mut read: Vec<(std::path::PathBuf, Arc<MerlFile>)> = Vec::new();
+        let mut read: Vec<(std::path::PathBuf, Reflectance)> = Vec::new();
         scene
             .objects
             .iter()
@@ -95,13 +100,16 @@ impl Reflectance {
                 Brdf::Measured(table) => {
                     let path = table.path();
                     if let Some((_, file)) = read.iter().find(|(p, _)| p == path) {
-                        return Ok(Reflectance::Measured(file.clone()));
+                        return Ok(file.clone());
                     }
-                    let file = Arc::new(
-                        MerlFile::read(path).map_err(|message| Error::Scene { file: scene.source.clone(), message })?,
-                    );
+                    let failed = |message| Error::Scene { file: scene.source.clone(), message };
+                    let file = if is_rgl_file(path) {
+                        Reflectance::Rgl(Arc::new(RglTable::read(path).map_err(failed)?))
+                    } else {
+                        Reflectance::Measured(Arc::new(MerlFile::read(path).map_err(failed)?))
+                    };
                     read.push((path.to_path_buf(), file.clone()));
-                    Ok(Reflectance::Measured(file))
+                    Ok(file)
                 }
                 Brdf::Analytic(material) if !material.has_mirror() => Err(Error::Scene {
                     file: scene.source.clone(),
@@ -125,6 +133,12 @@ impl Reflectance {
         match self {
             Reflectance::Model(brdf) => brdf.eval_in_frame(n, t, wi, wo),
             Reflectance::Measured(file) => file.eval(n, wi, wo),
+            Reflectance::Rgl(file) => {
+                // Isotropic (the scene's loading refused others): any tangent frame.
+                let t = n.any_orthonormal_vector();
+                let local = |v: Vec3| Vec3::new(v.dot(t), v.dot(n.cross(t)), v.dot(n));
+                file.eval_local(local(wi), local(wo))
+            }
         }
     }
 
@@ -132,7 +146,7 @@ impl Reflectance {
     fn model(&self) -> Option<&Brdf> {
         match self {
             Reflectance::Model(brdf) => Some(brdf),
-            Reflectance::Measured(_) => None,
+            Reflectance::Measured(_) | Reflectance::Rgl(_) => None,
         }
     }
 }

@@ -120,7 +120,25 @@ fn spectra_as_rgb(fields: &Fields) -> Result<(Vec<usize>, Vec<f32>), String> {
     Ok((vec![shape[0], shape[1], 3, shape[3], shape[4]], rgb))
 }
 
+/// Whether the file at `path` begins as a tensor file does (false when it cannot be read).
+pub fn is_rgl_file(path: &std::path::Path) -> bool {
+    use std::io::Read;
+    let mut start = [0u8; 12];
+    std::fs::File::open(path).and_then(|mut f| f.read_exact(&mut start)).is_ok() && &start == tensor::MAGIC
+}
+
 impl RglTable {
+    /// Reads the RGL file at `path`.
+    ///
+    /// # Errors
+    /// One line naming the file: what [`tensor::parse`] or [`RglTable::from_fields`] finds wrong.
+    pub fn read(path: &std::path::Path) -> Result<Self, String> {
+        let shown = path.display();
+        let bytes = crate::files::read_regular(path, "RGL file", MAX_RGL_BYTES)?;
+        let fields = tensor::parse(&bytes).map_err(|e| format!("the RGL file {shown}: {e}"))?;
+        Self::from_fields(&fields).map_err(|e| format!("the RGL file {shown}: {e}"))
+    }
+
     /// The material of a tensor file's fields.
     ///
     /// # Errors
@@ -181,6 +199,11 @@ impl RglTable {
             reduction,
             jacobian,
         })
+    }
+
+    /// Whether the material depends on the azimuths' difference only (one or two phi_i in the file).
+    pub fn isotropic(&self) -> bool {
+        self.isotropic
     }
 
     /// f_r for the light's direction `light` and the view `view`, in the surface's frame (the normal +z, the

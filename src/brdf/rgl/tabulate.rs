@@ -122,3 +122,34 @@ pub fn tabulate(
     fields.insert("rgb".into(), Field::floats(vec![incident[0], incident[1], 3, s, s], rgb));
     Ok(fields)
 }
+
+/// The incident elevations of [`tabulate_model`]'s files: every 10 degrees to 60, then every 5 to 85, where
+/// a lobe changes fastest.
+pub const MODEL_THETA_I: [f32; 12] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0];
+
+/// An isotropic built-in model as an RGL file's fields (`vk-render tabulate --output NAME.bsdf`): its f_r
+/// (the Rust mirror) at [`MODEL_THETA_I`], one phi_i, a 64 x 64 NDF and 48 x 48 samples. The
+/// parameterisation's NDF is the model's GGX (alpha = roughness^2) for Cook-Torrance, else GGX with alpha
+/// 0.5 (any NDF parameterises any model; a measured file's is the material's own).
+///
+/// # Errors
+/// A model with no Rust mirror (a measured table, a `.brdf` model).
+pub fn tabulate_model(brdf: &crate::brdf::Brdf, description: &str) -> Result<Fields, String> {
+    use crate::brdf::Brdf;
+    let alpha = match brdf {
+        Brdf::CookTorrance { roughness, .. } => roughness * roughness,
+        Brdf::Measured(_) | Brdf::Analytic(_) => {
+            return Err(format!("a {} material: an RGL file is written of a built-in model", brdf.name()))
+        }
+        _ => 0.5,
+    };
+    let ndf = |m: Vec3| crate::brdf::cook_torrance::d_ggx(Vec3::Z, m, alpha);
+    let f = |light: Vec3, view: Vec3| brdf.eval(Vec3::Z, light, view);
+    let at = Tabulation {
+        theta_i: MODEL_THETA_I.map(f32::to_radians).to_vec(),
+        phi_i: vec![0.0],
+        ndf_nodes: 64,
+        sample_nodes: 48,
+    };
+    tabulate(description, &ndf, &f, &at)
+}
