@@ -240,11 +240,11 @@ impl MeasuredTable {
     /// The file is missing, not a regular file, of the wrong size or dimensions, holds a NaN or an infinity,
     /// or measures nothing; for an RGL file, what [`super::rgl`] finds wrong, or an anisotropic material.
     pub fn read(path: &Path) -> Result<Self, String> {
-        let bytes = crate::files::read_regular(path, "measured file", FILE_BYTES.max(super::rgl::MAX_RGL_BYTES))?;
-        let shown = path.display();
-        if bytes.starts_with(super::rgl::tensor::MAGIC) {
-            return Self::from_rgl(path, &bytes);
+        if super::rgl::is_rgl_file(path) {
+            return Self::from_rgl(path);
         }
+        let bytes = crate::files::read_regular(path, "MERL file", FILE_BYTES)?;
+        let shown = path.display();
         if bytes.len() < 12 {
             return Err(format!("the MERL file {shown} is {} bytes, too short for its header", bytes.len()));
         }
@@ -298,11 +298,10 @@ impl MeasuredTable {
     /// have no azimuth of the half vector.
     ///
     /// # Errors
-    /// The tensor file or its fields, in one line naming the file; an anisotropic material.
-    pub fn from_rgl(path: &Path, bytes: &[u8]) -> Result<Self, String> {
+    /// What [`super::rgl::RglTable::read`] finds wrong, in one line naming the file; an anisotropic material.
+    pub fn from_rgl(path: &Path) -> Result<Self, String> {
         let shown = path.display();
-        let fields = super::rgl::tensor::parse(bytes).map_err(|e| format!("the RGL file {shown}: {e}"))?;
-        let material = super::rgl::RglTable::from_fields(&fields).map_err(|e| format!("the RGL file {shown}: {e}"))?;
+        let material = super::rgl::RglTable::read(path)?;
         if !material.isotropic() {
             return Err(format!(
                 "the RGL file {shown} is anisotropic: vk-render's measured tables are isotropic (MERL's half and \

@@ -36,6 +36,13 @@ struct Session {
     difference: Vec<u8>,
 }
 
+impl Session {
+    /// How many pictures the figure's candidates name (numbered from 0).
+    fn pictures_named(&self) -> usize {
+        self.candidates.iter().map(|c| c.1).max().map_or(0, |k| k + 1)
+    }
+}
+
 thread_local! {
     static SESSION: RefCell<Session> = RefCell::new(Session::default());
 }
@@ -114,11 +121,10 @@ fn begin(text: &str) -> Result<Value, String> {
         }
         candidates.push((name, picture));
     }
-    let pictures = candidates.iter().map(|c| c.1).max().unwrap_or(0) + 1;
     SESSION.with_borrow_mut(|session| {
         *session = Session { size, candidates, ..Session::default() };
-    });
-    Ok(json!({ "pictures": pictures }))
+        Ok(json!({ "pictures": session.pictures_named() }))
+    })
 }
 
 /// Decodes a PNG or JPEG of exactly `size` within the memory it needs; `what` names it in errors.
@@ -145,7 +151,7 @@ fn message(error: Value) -> String {
 
 fn picture(bytes: &[u8]) -> Result<Value, String> {
     SESSION.with_borrow_mut(|session| {
-        let wanted = session.candidates.iter().map(|c| c.1).max().map_or(0, |k| k + 1);
+        let wanted = session.pictures_named();
         if session.pictures.len() >= wanted {
             return Err(format!("the figure has {wanted} pictures, all taken (check_begin starts a check)"));
         }
@@ -170,8 +176,7 @@ fn objects(bytes: &[u8]) -> Result<Value, String> {
 /// (every candidate's name and distance, best first).
 fn check(bytes: &[u8]) -> Result<Value, Value> {
     SESSION.with_borrow_mut(|session| {
-        let wanted = session.candidates.iter().map(|c| c.1).max().map_or(0, |k| k + 1);
-        if session.candidates.is_empty() || session.pictures.len() != wanted {
+        if session.candidates.is_empty() || session.pictures.len() != session.pictures_named() {
             return Err(json!({ "error": "the figure's pictures were not all handed over (check_picture)" }));
         }
         let mine = decode_sized(bytes, session.size, "your image")?;

@@ -120,11 +120,14 @@ fn spectra_as_rgb(fields: &Fields) -> Result<(Vec<usize>, Vec<f32>), String> {
     Ok((vec![shape[0], shape[1], 3, shape[3], shape[4]], rgb))
 }
 
-/// Whether the file at `path` begins as a tensor file does (false when it cannot be read).
+/// Whether `path` is a regular file that begins as a tensor file does (false when it cannot be read; a
+/// FIFO or a device is never opened: the reader that follows refuses it by name).
 pub fn is_rgl_file(path: &std::path::Path) -> bool {
     use std::io::Read;
     let mut start = [0u8; 12];
-    std::fs::File::open(path).and_then(|mut f| f.read_exact(&mut start)).is_ok() && &start == tensor::MAGIC
+    std::fs::metadata(path).is_ok_and(|m| m.is_file())
+        && std::fs::File::open(path).and_then(|mut f| f.read_exact(&mut start)).is_ok()
+        && &start == tensor::MAGIC
 }
 
 impl RglTable {
