@@ -15,8 +15,10 @@ set -euo pipefail
 project=$(cd "$(dirname "$0")/.." && pwd)
 venv=${VK_RENDER_PYTHON_VENV:-${CARGO_TARGET_DIR:-$project/target}/python-venv}
 # Wheels for Debian 12's Python 3.11 and Debian 13's 3.13 alike (matplotlib for the examples of
-# docs/python.md; maturin for the test of python/build_backend.py, which builds from source).
-pins=(numpy==2.4.6 pytest==9.2.0 dask==2026.8.0 distributed==2026.8.0 matplotlib==3.11.2 maturin==1.16.0)
+# docs/python.md; maturin for the test of python/build_backend.py, which builds from source; the export
+# formats' own readers for python/tests/test_export.py: pygltflib, MaterialX, Mitsuba 3 and its Dr.Jit).
+pins=(numpy==2.4.6 pytest==9.2.0 dask==2026.8.0 distributed==2026.8.0 matplotlib==3.11.2 maturin==1.16.0
+    pygltflib==1.16.5 materialx==1.39.5 mitsuba==3.9.1 drjit==1.5.0)
 
 # python3-venv: `python3 -m venv` with pip (stdout to stderr: this script's stdout is the python's path).
 "$project/scripts/install-packages.sh" python3-venv >&2

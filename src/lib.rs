@@ -14,6 +14,7 @@ pub mod check;
 pub mod compare;
 pub mod environment;
 pub mod error;
+pub mod export;
 pub mod figures;
 pub mod files;
 pub mod frames;

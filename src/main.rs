@@ -70,6 +70,9 @@ enum Command {
     /// Write a material as a MERL file, as if measured (each entry its BRDF at the entry's centre), to load
     /// with brdf = "measured" or into another tool that reads MERL files.
     Tabulate(commands::tabulate::TabulateArgs),
+    /// Write a material for another renderer: glTF 2.0, MaterialX (Standard Surface or OpenPBR), Mitsuba 3 or
+    /// pbrt-v4, each parameter mapped by the format's own definition (see docs/export.md).
+    Export(commands::export::ExportArgs),
     /// Test a material's own sampler, the exact mode's, on the GPU: Pearson's χ² per view, the density's
     /// integral, the estimator against the albedo, reciprocity and energy (exit status 0 passes, 1 fails, 2
     /// bad input).
@@ -221,6 +224,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Compare(args) => commands::compare::run(args, options),
         Command::Fit(args) => commands::fit::run(args, options),
         Command::Tabulate(args) => commands::tabulate::run(args, options),
+        Command::Export(args) => commands::export::run(args),
         Command::Check(args) => return Ok(commands::check::run(args, options)),
         Command::Sampling(args) => return Ok(commands::sampling::run(args, options)),
         #[cfg(feature = "preview")]

@@ -17,6 +17,7 @@ use vk_render::analysis::{describe, rgb, select_materials, Channel, NamedBrdf};
 use vk_render::brdf::{Analytic, AnalyticModel, Brdf, Measured};
 use vk_render::chart::{write_chart, ChartFile, LineChart, LobeChart, Series, PALETTE};
 use vk_render::check::report::read_image;
+use vk_render::export::{CourseMaterial, EXPORTED_MODELS};
 use vk_render::output::write_file;
 use vk_render::{Renderer, RendererOptions, Scene};
 
@@ -72,6 +73,15 @@ pub struct FitArgs {
     #[arg(long, value_name = "OUT")]
     chart: Option<PathBuf>,
 
+    /// A material: also write the best fit for another renderer, in this format, to --export-to (see
+    /// docs/export.md).
+    #[arg(long, value_name = "FORMAT", value_parser = super::export::format_names(), requires = "export_to")]
+    export: Option<String>,
+
+    /// With --export: the file to write.
+    #[arg(long, value_name = "OUT", requires = "export")]
+    export_to: Option<PathBuf>,
+
     #[command(flatten)]
     set: SetArgs,
 }
@@ -84,6 +94,11 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
         }
     }
     let models = fit_models(&args.to, &args.hold)?;
+    if args.export.is_some()
+        && !models.iter().any(|m| matches!(m, FitModel::BuiltIn(name) if EXPORTED_MODELS.contains(name)))
+    {
+        anyhow::bail!("--export: the formats take a fit to {} (add one to --to)", EXPORTED_MODELS.join(", "));
+    }
     if let (Some(image), Some(scene), Some(object)) = (&args.image, &args.image_scene, args.object) {
         return run_image(&args, image, scene, object, &models, options);
     }
@@ -114,6 +129,17 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
     print_fits(&target, &fits, &args.theta_i);
     if let Some(output) = &args.output {
         draw_lobes(&mut renderer, &target, &fits, &args.theta_i, output)?;
+    }
+    if let (Some(format), Some(export_to)) = (&args.export, &args.export_to) {
+        // The best of the fits a format can hold (a Phong fit may rank first).
+        let exportable = fits.iter().filter(|(_, f)| CourseMaterial::of(&f.brdf).is_ok());
+        if let Some((model, best)) = exportable.min_by(|a, b| a.1.residual.total_cmp(&b.1.residual)) {
+            if fits.len() > 1 {
+                println!("exporting the {model} fit, the best of those the formats hold");
+            }
+            let fitted = NamedBrdf { name: target.name.clone(), brdf: best.brdf.clone() };
+            super::export::write_export(&fitted, format, export_to)?;
+        }
     }
     Ok(())
 }
@@ -313,6 +339,9 @@ fn run_folder(args: &FitArgs, folder: &Path, models: &[FitModel], options: Rende
     if args.material.is_some() {
         anyhow::bail!("--material: a folder's materials are its MERL files, every one fitted");
     }
+    if args.export.is_some() {
+        anyhow::bail!("--export: one material's fit is exported, not a folder's (fit each file's scene)");
+    }
     if let Some(output) = &args.output {
         if output.extension().and_then(|e| e.to_str()) != Some("csv") {
             anyhow::bail!("{}: a folder's table is written as .csv", output.display());
@@ -394,9 +423,10 @@ fn run_image(
     models: &[FitModel],
     options: RendererOptions,
 ) -> anyhow::Result<()> {
-    if args.material.is_some() || args.output.is_some() || args.chart.is_some() {
+    if args.material.is_some() || args.output.is_some() || args.chart.is_some() || args.export.is_some() {
         anyhow::bail!(
-            "--image: the object's own material is fitted, and nothing is drawn (no --material, -o or --chart)"
+            "--image: the object's own material is fitted, and nothing is drawn or exported (no --material, -o, \
+             --chart or --export)"
         );
     }
     let scene = Scene::load(scene_path, &args.set.overrides)?;

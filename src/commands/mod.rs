@@ -4,6 +4,7 @@
 pub mod check;
 pub mod compare;
 pub mod devices;
+pub mod export;
 pub mod figures;
 pub mod fit;
 pub mod furnace;
