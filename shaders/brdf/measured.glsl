@@ -28,6 +28,8 @@ vec3 measured_texel(uint table, uint index) {
     uint entry = table * MERL_ENTRIES + index;
     return texelFetch(measured_tables, ivec2(entry % MEASURED_TEXTURE_WIDTH, entry / MEASURED_TEXTURE_WIDTH), 0).rgb;
 }
+// Float i of a table's place (an anisotropic RGL material's packed floats: three a texel).
+float measured_float(uint table, uint i) { return measured_texel(table, i / 3u)[i % 3u]; }
 #else
 // The renderer's build: each table's entries, then its sampler's floats (brdf/measured_sampler.glsl,
 // src/brdf/measured_sampler.rs: SAMPLER_FLOATS).
@@ -38,12 +40,17 @@ vec3 measured_texel(uint table, uint index) {
     uint i = table * MEASURED_TABLE_FLOATS + 3u * index;
     return vec3(measured_tables[i], measured_tables[i + 1u], measured_tables[i + 2u]);
 }
+float measured_float(uint table, uint i) { return measured_tables[table * MEASURED_TABLE_FLOATS + i]; }
 #endif
 
-// A material's `measured`: its table's place, and MEASURED_SAMPLED when the exact mode draws from the
-// table's own sampler (the scene's `sampler`, true unless set false).
+#include "brdf/rgl.glsl"
+
+// A material's `measured`: its table's place, MEASURED_SAMPLED when the exact mode draws from the table's own
+// sampler (the scene's `sampler`, true unless set false), MEASURED_RGL when the place holds an anisotropic
+// RGL material (brdf/rgl.glsl) instead of a table.
 const uint MEASURED_SAMPLED = 0x80000000u;
-uint measured_table(uint field) { return field & ~MEASURED_SAMPLED; }
+const uint MEASURED_RGL = 0x40000000u;
+uint measured_table(uint field) { return field & ~(MEASURED_SAMPLED | MEASURED_RGL); }
 
 // A unit vector perpendicular to unit n.
 vec3 any_tangent(vec3 n) {
@@ -112,8 +119,15 @@ vec3 measured_lookup(uint table, vec3 c) {
     return mix(vec3(0.0), sum / max(weight, vec3(1e-30)), greaterThan(weight, vec3(0.0)));
 }
 
-// f_r(wi, wo) of the material's table (its `measured`) about n, both above the horizon.
-vec3 measured(uint field, vec3 n, vec3 wi, vec3 wo) {
+// f_r(wi, wo) of the material's table (its `measured`) about n with the tangent t (the frame X = t,
+// Y = n x t, which only an anisotropic RGL material reads), both above the horizon. Mirrors
+// MeasuredTable::eval_in_frame.
+vec3 measured(uint field, vec3 n, vec3 t, vec3 wi, vec3 wo) {
+    if ((field & MEASURED_RGL) != 0u) {
+        vec3 b = cross(n, t);
+        return rgl_eval_local(measured_table(field), vec3(dot(wi, t), dot(wi, b), dot(wi, n)),
+                              vec3(dot(wo, t), dot(wo, b), dot(wo, n)));
+    }
     return measured_lookup(measured_table(field), measured_coordinates(half_diff_angles(n, wi, wo)));
 }
 

@@ -88,7 +88,7 @@ vec3 brdf_eval(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
             return cook_torrance(n, wi, wo, m.kd.rgb, m.f0.rgb, m.roughness, m.metalness,
                                  DIFFUSE_SPECIALIZED == BRDF_FROM_MATERIAL ? m.diffuse : DIFFUSE_SPECIALIZED);
         case BRDF_MEASURED:
-            return measured(m.measured, n, wi, wo);
+            return measured(m.measured, n, t, wi, wo);
 #ifdef ANALYTIC_BRDF
         case BRDF_ANALYTIC:
             return analytic_checked(m.analytic, n, t, wi, wo);

@@ -21,6 +21,8 @@ use std::time::SystemTime;
 
 use glam::Vec3;
 
+use super::rgl::RglTable;
+
 /// `BRDF_SAMPLING_RES_THETA_H`, `BRDF_SAMPLING_RES_THETA_D` and `BRDF_SAMPLING_RES_PHI_D / 2` of
 /// `BRDFRead.cpp`: the table's dimensions, in the file's header order.
 pub const THETA_H_BINS: usize = 90;
@@ -46,6 +48,9 @@ pub struct MeasuredTable {
     pub rgb: Vec<f32>,
     /// Its sampler ([`super::measured_sampler`]), made when first asked for.
     sampler: OnceLock<Vec<f32>>,
+    /// An anisotropic RGL material, evaluated as its file defines it: `rgb` then holds it packed
+    /// ([`RglTable::pack`]) for the GPU, not entries.
+    anisotropic: Option<Arc<RglTable>>,
 }
 
 impl PartialEq for MeasuredTable {
@@ -161,12 +166,43 @@ pub fn directions_at(angles: Vec3) -> (Vec3, Vec3) {
 impl MeasuredTable {
     /// The table of `rgb` (f_r of every entry, as [`MeasuredTable::rgb`]) for `path`.
     pub fn new(path: PathBuf, rgb: Vec<f32>) -> Self {
-        Self { path, rgb, sampler: OnceLock::new() }
+        Self { path, rgb, sampler: OnceLock::new(), anisotropic: None }
     }
 
-    /// The floats of the table's own sampler ([`super::measured_sampler::sampler`]), made once.
+    /// The floats of the table's own sampler ([`super::measured_sampler::sampler`]), made once; zeros for an
+    /// anisotropic RGL material, which has none (its place in the GPU's buffer has the sampler's floats all
+    /// the same).
     pub fn sampler(&self) -> &[f32] {
-        self.sampler.get_or_init(|| super::measured_sampler::sampler(self))
+        self.sampler.get_or_init(|| match self.anisotropic {
+            Some(_) => vec![0.0; super::measured_sampler::SAMPLER_FLOATS],
+            None => super::measured_sampler::sampler(self),
+        })
+    }
+
+    /// The anisotropic RGL material the table stands for, if it does.
+    pub fn anisotropic(&self) -> Option<&RglTable> {
+        self.anisotropic.as_deref()
+    }
+
+    /// f_r(wi, wo) about n with the tangent t (the frame X = t, Y = n x t, which only an anisotropic RGL
+    /// material reads). Mirrors `measured` in `shaders/brdf/measured.glsl`.
+    pub fn eval_in_frame(&self, n: Vec3, t: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+        match &self.anisotropic {
+            Some(material) => {
+                let local = |v: Vec3| Vec3::new(v.dot(t), v.dot(n.cross(t)), v.dot(n));
+                material.eval_local(local(wi), local(wo))
+            }
+            None => self.eval(n, wi, wo),
+        }
+    }
+
+    /// The value a fit takes for entry (theta_h, theta_d, phi_d) turned to the directions wi and wo about
+    /// +z: the entry itself, or an anisotropic RGL material's f_r at the directions (tangent +x).
+    pub fn measurement(&self, index: usize, wi: Vec3, wo: Vec3) -> Vec3 {
+        match &self.anisotropic {
+            Some(material) => material.eval_local(wi, wo),
+            None => self.entry(index),
+        }
     }
 
     /// f_r at the continuous coordinates `c` ([`measured_coordinates`]): trilinear between the eight entries
@@ -202,7 +238,8 @@ impl MeasuredTable {
         Vec3::from_slice(&self.rgb[3 * index..3 * index + 3])
     }
 
-    /// f_r(wi, wo) about n, both above the horizon. Mirrors `measured` in `shaders/brdf/measured.glsl`.
+    /// f_r(wi, wo) about n, both above the horizon, of a MERL table (isotropic). Mirrors `measured_lookup` in
+    /// `shaders/brdf/measured.glsl`.
     pub fn eval(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         self.lookup(measured_coordinates(half_diff_angles(n, wi, wo)))
     }
@@ -238,7 +275,8 @@ impl MeasuredTable {
     ///
     /// # Errors
     /// The file is missing, not a regular file, of the wrong size or dimensions, holds a NaN or an infinity,
-    /// or measures nothing; for an RGL file, what [`super::rgl`] finds wrong, or an anisotropic material.
+    /// or measures nothing; for an RGL file, what [`super::rgl`] finds wrong, or an anisotropic material too
+    /// large for a table's place.
     pub fn read(path: &Path) -> Result<Self, String> {
         if super::rgl::is_rgl_file(path) {
             return Self::from_rgl(path);
@@ -292,23 +330,31 @@ impl MeasuredTable {
 }
 
 impl MeasuredTable {
-    /// An isotropic RGL material resampled into a table: the reader's f_r ([`super::rgl::RglTable`]) at the
-    /// centre of every entry, as [`MeasuredTable::tabulate`] tabulates a model, so that every command that
-    /// takes a measured table takes it. An anisotropic one is refused: the table's half and difference angles
-    /// have no azimuth of the half vector.
+    /// An RGL material as a table. An isotropic one is resampled: the reader's f_r
+    /// ([`super::rgl::RglTable`]) at the centre of every entry, as [`MeasuredTable::tabulate`] tabulates a
+    /// model, so that every command that takes a measured table takes it, its sampler included. An anisotropic
+    /// one (the table's half and difference angles have no azimuth of the half vector) is kept as the file
+    /// defines it, and packed for the GPU into the place of a table's entries; it has no sampler.
     ///
     /// # Errors
-    /// What [`super::rgl::RglTable::read`] finds wrong, in one line naming the file; an anisotropic material.
+    /// What [`super::rgl::RglTable::read`] finds wrong, in one line naming the file; an anisotropic material
+    /// larger than a table's place.
     pub fn from_rgl(path: &Path) -> Result<Self, String> {
-        let shown = path.display();
         let material = super::rgl::RglTable::read(path)?;
-        if !material.isotropic() {
+        if material.isotropic() {
+            return Ok(Self::tabulate(path.to_path_buf(), |wi, wo| material.eval_local(wi, wo)));
+        }
+        let mut packed = material.pack();
+        if packed.len() > 3 * ENTRIES {
             return Err(format!(
-                "the RGL file {shown} is anisotropic: vk-render's measured tables are isotropic (MERL's half and \
-                 difference angles), and reads isotropic RGL files only so far"
+                "the RGL file {} is anisotropic and holds {} floats, more than the {} of a measured table's place                  on the GPU",
+                path.display(),
+                packed.len(),
+                3 * ENTRIES
             ));
         }
-        Ok(Self::tabulate(path.to_path_buf(), |wi, wo| material.eval_local(wi, wo)))
+        packed.resize(3 * ENTRIES, 0.0);
+        Ok(Self { anisotropic: Some(Arc::new(material)), ..Self::new(path.to_path_buf(), packed) })
     }
 }
 
@@ -343,7 +389,8 @@ impl Measured {
     }
 
     fn sharing(table: Arc<MeasuredTable>) -> Self {
-        Self { table, sampled: true }
+        let sampled = table.anisotropic.is_none();
+        Self { table, sampled }
     }
 
     /// A material of a table in memory.
@@ -352,9 +399,11 @@ impl Measured {
     }
 
     /// The same table, the exact mode drawing from its sampler ([`super::measured_sampler`]) or not (the
-    /// scene's `sampler = false`: the cosine and the environment alone, as before tables had samplers).
+    /// scene's `sampler = false`: the cosine and the environment alone, as before tables had samplers). An
+    /// anisotropic RGL material has no sampler: never drawn from.
     #[must_use]
     pub fn with_sampler(self, sampled: bool) -> Self {
+        let sampled = sampled && self.table.anisotropic.is_none();
         Self { sampled, ..self }
     }
 
@@ -378,9 +427,9 @@ impl Measured {
         Arc::ptr_eq(&self.table, &other.table)
     }
 
-    /// f_r(wi, wo) about n ([`MeasuredTable::eval`]).
-    pub fn eval(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
-        self.table.eval(n, wi, wo)
+    /// f_r(wi, wo) about n with the tangent t ([`MeasuredTable::eval_in_frame`]).
+    pub fn eval(&self, n: Vec3, t: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+        self.table.eval_in_frame(n, t, wi, wo)
     }
 }
 

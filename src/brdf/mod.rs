@@ -134,7 +134,7 @@ impl Brdf {
             Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse } => {
                 cook_torrance(n, wi, wo, *kd, *f0, *roughness, *metalness, *diffuse)
             }
-            Brdf::Measured(table) => table.eval(n, wi, wo),
+            Brdf::Measured(table) => table.eval(n, t, wi, wo),
             Brdf::Analytic(material) => material.mirror_eval(n, t, wi, wo).unwrap_or(Vec3::NAN),
         }
     }
@@ -158,8 +158,7 @@ impl Brdf {
         }
         match *self {
             Brdf::OrenNayar { kd, sigma } => oren_nayar(n, wi, wo, kd, sigma),
-            Brdf::Measured(ref table) => table.eval(n, wi, wo),
-            Brdf::Analytic(_) => self.eval(n, wi, wo),
+            Brdf::Measured(_) | Brdf::Analytic(_) => self.eval(n, wi, wo),
             Brdf::CookTorrance { kd, roughness, metalness, diffuse, .. } => {
                 (1.0 - metalness)
                     * match diffuse {

@@ -1,7 +1,7 @@
 //! `vk-render tabulate`: a material written as a MERL file, as if measured (its Rust mirror evaluated at the
 //! centre of every entry; a .brdf file's own GLSL, on the GPU), to load as `brdf = "measured"` or into any
-//! tool that reads MERL files; or, a built-in model, as an RGL `.bsdf` file (`--output NAME.bsdf`: the
-//! paper's parameterisation, src/brdf/rgl/tabulate.rs).
+//! tool that reads MERL files; or, a built-in model or a `.brdf` file with a Rust mirror, as an RGL `.bsdf`
+//! file (`--output NAME.bsdf`: the paper's parameterisation, src/brdf/rgl/tabulate.rs).
 
 use std::path::PathBuf;
 
@@ -23,7 +23,8 @@ pub struct TabulateArgs {
     material: String,
 
     /// The file to write: a MERL file (90 x 90 x 180 entries, 34,992,012 bytes), or with the extension
-    /// .bsdf an RGL file (a built-in model; about 0.6 MB).
+    /// .bsdf an RGL file (a built-in model, about 0.6 MB; or a .brdf file with a Rust mirror, its incident
+    /// azimuths over the whole turn, about 10 MB).
     #[arg(short, long, value_name = "OUT.binary|OUT.bsdf")]
     output: PathBuf,
 

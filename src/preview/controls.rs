@@ -319,7 +319,7 @@ fn diffuse_colour(brdf: &Brdf) -> Vec3 {
         // reflectance of the measurement's diffuse part.
         Brdf::Measured(ref table) => {
             let (wi, wo) = (Vec3::new(0.866, 0.0, 0.5), Vec3::new(0.0, 0.866, 0.5));
-            (std::f32::consts::PI * table.eval(Vec3::Z, wi, wo)).clamp(Vec3::ZERO, Vec3::ONE)
+            (std::f32::consts::PI * table.eval(Vec3::Z, Vec3::X, wi, wo)).clamp(Vec3::ZERO, Vec3::ONE)
         }
         // The file's first colour, which is most often its diffuse one; a grey where it has none.
         Brdf::Analytic(ref material) => material

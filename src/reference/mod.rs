@@ -125,7 +125,7 @@ impl Reflectance {
             .collect()
     }
 
-    /// f_r at a surface of normal n and tangent t (which only an analytic model reads).
+    /// f_r at a surface of normal n and tangent t (which an analytic model and an anisotropic RGL file read).
     fn eval(&self, n: Vec3, t: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {
             return Vec3::ZERO;
@@ -134,8 +134,7 @@ impl Reflectance {
             Reflectance::Model(brdf) => brdf.eval_in_frame(n, t, wi, wo),
             Reflectance::Measured(file) => file.eval(n, wi, wo),
             Reflectance::Rgl(file) => {
-                // Isotropic (the scene's loading refused others): any tangent frame.
-                let t = n.any_orthonormal_vector();
+                // In the frame X = t, Y = n x t, as the renderer's (an anisotropic file reads it).
                 let local = |v: Vec3| Vec3::new(v.dot(t), v.dot(n.cross(t)), v.dot(n));
                 file.eval_local(local(wi), local(wo))
             }

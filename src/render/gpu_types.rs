@@ -102,6 +102,10 @@ pub struct GpuObject {
 /// (`MEASURED_SAMPLED` of `shaders/brdf/measured.glsl`).
 pub const MEASURED_SAMPLED: u32 = 1 << 31;
 
+/// In [`GpuMaterial::measured`], beside the table's place: the place holds an anisotropic RGL material
+/// (`MEASURED_RGL` of `shaders/brdf/measured.glsl`, read by `shaders/brdf/rgl.glsl`).
+pub const MEASURED_RGL: u32 = 1 << 30;
+
 /// The BRDF ids of `shaders/common/brdf.glsl`: this one [`Brdf::Lambert`].
 pub const BRDF_LAMBERT: u32 = 0;
 /// [`Brdf::OrenNayar`].
@@ -240,7 +244,9 @@ impl GpuMaterial {
         let base = GpuMaterial { brdf: brdf_id(brdf), ..GpuMaterial::default() };
         match *brdf {
             Brdf::Measured(ref table) => GpuMaterial {
-                measured: data.measured.slot(table) | if table.sampled() { MEASURED_SAMPLED } else { 0 },
+                measured: data.measured.slot(table)
+                    | if table.sampled() { MEASURED_SAMPLED } else { 0 }
+                    | if table.table().anisotropic().is_some() { MEASURED_RGL } else { 0 },
                 ..base
             },
             Brdf::Analytic(ref material) => GpuMaterial { analytic: data.analytic.first(material), ..base },

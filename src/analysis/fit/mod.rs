@@ -342,7 +342,7 @@ fn measurement_samples(measured: &Measured) -> (Vec<Sample>, Vec<[f64; 3]>) {
                 let turn = glam::Quat::from_rotation_z(azimuth(samples.len()));
                 let (wi, wo) = directions_at(angles);
                 let (wi, wo) = (turn * wi, turn * wo);
-                let value = table.entry(entry_index(h, d, p));
+                let value = table.measurement(entry_index(h, d, p), wi, wo);
                 if wi.z <= max_cos || wo.z <= max_cos || value.min_element() < 0.0 {
                     continue;
                 }

@@ -28,6 +28,9 @@ use warp::Grid2D;
 /// The largest `.bsdf` file read: RGL's spectral files are about 20 MB.
 pub const MAX_RGL_BYTES: u64 = 512 << 20;
 
+/// The floats of [`RglTable::pack`]'s header: 7 of the material, 5 per grid.
+pub const PACKED_HEADER: usize = 7 + 4 * 5;
+
 /// An RGL material in memory.
 #[derive(Clone, Debug)]
 pub struct RglTable {
@@ -202,6 +205,35 @@ impl RglTable {
             reduction,
             jacobian,
         })
+    }
+
+    /// The material as one array of floats, as `shaders/brdf/rgl.glsl` reads it from a measured table's place:
+    /// a header of [`PACKED_HEADER`] floats (the flags, the incident angles' counts and offsets, then each
+    /// grid's width, height and offsets: ndf, sigma, vndf, rgb), then the arrays. Counts and offsets are
+    /// whole numbers, exact in a float below 2^24.
+    pub fn pack(&self) -> Vec<f32> {
+        let mut out = vec![0.0; PACKED_HEADER];
+        let [phi_i, theta_i] = [&self.vndf.parameters()[0], &self.vndf.parameters()[1]];
+        let phi_offset = out.len();
+        out.extend_from_slice(phi_i);
+        let theta_offset = out.len();
+        out.extend_from_slice(theta_i);
+        let mut header = vec![
+            u32::from(self.isotropic),
+            self.reduction,
+            u32::from(self.jacobian),
+            phi_i.len() as u32,
+            theta_i.len() as u32,
+            phi_offset as u32,
+            theta_offset as u32,
+        ];
+        for grid in [&self.ndf, &self.sigma, &self.vndf, &self.rgb] {
+            header.extend(grid.pack(&mut out));
+        }
+        for (slot, value) in out.iter_mut().zip(header) {
+            *slot = value as f32;
+        }
+        out
     }
 
     /// Whether the material depends on the azimuths' difference only (one or two phi_i in the file).

@@ -40,19 +40,33 @@ fn node(k: usize, n: usize) -> f32 {
     k as f32 / (n - 1) as f32
 }
 
-/// The projected area of the microsurface seen from `incident`, integral of D(m) max(0, incident . m) dm,
-/// by the midpoint rule on the NDF's square (256 x 256 cells, in double precision).
-fn projected_area(ndf: &dyn Fn(Vec3) -> f32, incident: Vec3) -> f32 {
+/// The projected area of the microsurface seen from an incident direction, integral of D(m) max(0,
+/// incident . m) dm, by the midpoint rule on the NDF's square (256 x 256 cells, summed in double precision):
+/// the NDF and the solid angle at the cells' midpoints evaluated once, for every incident direction.
+struct ProjectedArea {
+    /// Each cell's normal, D there and the solid angle per unit of the square.
+    cells: Vec<(Vec3, f32, f32)>,
+}
+
+impl ProjectedArea {
     const CELLS: usize = 256;
-    let mut sum = 0.0f64;
-    for j in 0..CELLS {
-        for i in 0..CELLS {
-            let u = Vec2::new((i as f32 + 0.5) / CELLS as f32, (j as f32 + 0.5) / CELLS as f32);
-            let m = direction(u, 0.0);
-            sum += f64::from(ndf(m) * incident.dot(m).max(0.0) * solid_angle_per_unit(u));
-        }
+
+    fn new(ndf: &dyn Fn(Vec3) -> f32) -> Self {
+        let n = Self::CELLS;
+        let cells = (0..n * n)
+            .map(|k| {
+                let u = Vec2::new(((k % n) as f32 + 0.5) / n as f32, ((k / n) as f32 + 0.5) / n as f32);
+                let m = direction(u, 0.0);
+                (m, ndf(m), solid_angle_per_unit(u))
+            })
+            .collect();
+        Self { cells }
     }
-    (sum / (CELLS * CELLS) as f64) as f32
+
+    fn at(&self, incident: Vec3) -> f32 {
+        let sum: f64 = self.cells.iter().map(|&(m, d, area)| f64::from(d * incident.dot(m).max(0.0) * area)).sum();
+        (sum / self.cells.len() as f64) as f32
+    }
 }
 
 /// The fields of an RGL file of the model whose NDF is `ndf` (of the microfacet normal) and f_r `brdf`
@@ -72,7 +86,8 @@ pub fn tabulate(
         (0..n).flat_map(|y| (0..n).map(move |x| Vec2::new(node(x, n), node(y, n)))).map(f).collect()
     };
     let ndf_values = square(&|u| ndf(direction(u, 0.0)));
-    let sigma_values = square(&|u| projected_area(ndf, direction(u, 0.0)));
+    let projected_area = ProjectedArea::new(ndf);
+    let sigma_values = square(&|u| projected_area.at(direction(u, 0.0)));
     let (mut vndf, mut luminance, mut rgb) = (Vec::new(), Vec::new(), Vec::new());
     for &phi_i in &at.phi_i {
         for &theta_i in &at.theta_i {
@@ -87,7 +102,7 @@ pub fn tabulate(
                 .collect();
             let warp = Grid2D::density(visible.clone(), s, s, Vec::new())
                 .map_err(|e| format!("theta_i {theta_i}, phi_i {phi_i}: the visible normals' {e}"))?;
-            let sigma = projected_area(ndf, incident);
+            let sigma = projected_area.at(incident);
             let mut channels = [vec![0.0; s * s], vec![0.0; s * s], vec![0.0; s * s]];
             let mut lightness = vec![0.0; s * s];
             for k in 0..s * s {
@@ -127,29 +142,49 @@ pub fn tabulate(
 /// a lobe changes fastest.
 pub const MODEL_THETA_I: [f32; 12] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0];
 
-/// An isotropic built-in model as an RGL file's fields (`vk-render tabulate --output NAME.bsdf`): its f_r
-/// (the Rust mirror) at [`MODEL_THETA_I`], one phi_i, a 64 x 64 NDF and 48 x 48 samples. The
-/// parameterisation's NDF is the model's GGX (alpha = roughness^2) for Cook-Torrance, else GGX with alpha
-/// 0.5 (any NDF parameterises any model; a measured file's is the material's own).
+/// The step of the incident azimuths of [`tabulate_model`]'s files of a `.brdf` model, degrees: over the
+/// whole turn, both ends included.
+pub const MODEL_PHI_STEP: f32 = 15.0;
+
+/// A model with a Rust mirror as an RGL file's fields (`vk-render tabulate --output NAME.bsdf`): its f_r at
+/// [`MODEL_THETA_I`], one phi_i for a built-in (isotropic) model and every [`MODEL_PHI_STEP`] for a `.brdf` file's
+/// (which may not be), in the frame of the tangent +x; a 64 x 64 NDF and 48 x 48 samples (40 x 40 over the
+/// azimuths). The parameterisation's NDF is Cook-Torrance's GGX (alpha = roughness^2); another model's is
+/// its retroreflection, D(m) proportional to f_r(m, m) cos^2(theta_m) (a microfacet model's
+/// D G F / (4 cos^2) with G and F taken as even, as Dupuy and Jakob's acquisition reads the NDF from
+/// retroreflection; any NDF parameterises any model, and this one puts the samples where the lobe is).
 ///
 /// # Errors
-/// A model with no Rust mirror (a measured table, a `.brdf` model).
+/// A model with no Rust mirror (a measured table, a `.brdf` model without one).
 pub fn tabulate_model(brdf: &crate::brdf::Brdf, description: &str) -> Result<Fields, String> {
     use crate::brdf::Brdf;
-    let alpha = match brdf {
-        Brdf::CookTorrance { roughness, .. } => roughness * roughness,
-        Brdf::Measured(_) | Brdf::Analytic(_) => {
-            return Err(format!("a {} material: an RGL file is written of a built-in model", brdf.name()))
-        }
-        _ => 0.5,
-    };
-    let ndf = |m: Vec3| crate::brdf::cook_torrance::d_ggx(Vec3::Z, m, alpha);
-    let f = |light: Vec3, view: Vec3| brdf.eval(Vec3::Z, light, view);
-    let at = Tabulation {
-        theta_i: MODEL_THETA_I.map(f32::to_radians).to_vec(),
-        phi_i: vec![0.0],
-        ndf_nodes: 64,
-        sample_nodes: 48,
+    if matches!(brdf, Brdf::Measured(_)) || !brdf.has_mirror() {
+        return Err(format!(
+            "a {} material: an RGL file is written of a built-in model or a .brdf file with a Rust mirror",
+            brdf.name()
+        ));
+    }
+    let f = |light: Vec3, view: Vec3| brdf.eval_in_frame(Vec3::Z, Vec3::X, light, view);
+    let theta_i = MODEL_THETA_I.map(f32::to_radians).to_vec();
+    if let Brdf::CookTorrance { roughness, .. } = brdf {
+        let alpha = roughness * roughness;
+        let ndf = |m: Vec3| crate::brdf::cook_torrance::d_ggx(Vec3::Z, m, alpha);
+        let at = Tabulation { theta_i, phi_i: vec![0.0], ndf_nodes: 64, sample_nodes: 48 };
+        return tabulate(description, &ndf, &f, &at);
+    }
+    let luminance = Vec3::new(0.2126, 0.7152, 0.0722);
+    // A floor of the cosine's density keeps every direction's visible normals a density.
+    let ndf = |m: Vec3| (luminance.dot(f(m, m)) * m.z * m.z).max(1e-6 * m.z);
+    let at = match brdf {
+        Brdf::Analytic(_) => Tabulation {
+            theta_i,
+            phi_i: (0..=(360.0 / MODEL_PHI_STEP) as usize)
+                .map(|k| (k as f32 * MODEL_PHI_STEP - 180.0).to_radians())
+                .collect(),
+            ndf_nodes: 64,
+            sample_nodes: 40,
+        },
+        _ => Tabulation { theta_i, phi_i: vec![0.0], ndf_nodes: 64, sample_nodes: 48 },
     };
     tabulate(description, &ndf, &f, &at)
 }

@@ -85,6 +85,25 @@ impl Grid2D {
         Ok(grid)
     }
 
+    /// Appends the grid's floats to `out` (its values, then for a density its conditional and marginal
+    /// sums) and returns its header as the GPU reads it (`RglGrid` of `shaders/brdf/rgl.glsl`): width,
+    /// height, and the offsets of the three arrays in `out` (a function's last two are its values' offset).
+    pub fn pack(&self, out: &mut Vec<f32>) -> [u32; 5] {
+        let offset = |out: &Vec<f32>| out.len() as u32;
+        let values = offset(out);
+        out.extend_from_slice(&self.values);
+        let conditional = offset(out);
+        out.extend_from_slice(&self.conditional);
+        let marginal = offset(out);
+        out.extend_from_slice(&self.marginal);
+        [self.width as u32, self.height as u32, values, conditional, marginal]
+    }
+
+    /// Each parameter's values.
+    pub fn parameters(&self) -> &[Vec<f32>] {
+        &self.parameters
+    }
+
     fn check(&self) -> Result<(), String> {
         if self.width < 2 || self.height < 2 {
             return Err(format!("a grid of {} x {} nodes: at least 2 x 2", self.width, self.height));
