@@ -45,12 +45,11 @@ float measured_float(uint table, uint i) { return measured_tables[table * MEASUR
 
 #include "brdf/rgl.glsl"
 
-// A material's `measured`: its table's place, MEASURED_SAMPLED when the exact mode draws from the table's own
-// sampler (the scene's `sampler`, true unless set false), MEASURED_RGL when the place holds an anisotropic
-// RGL material (brdf/rgl.glsl) instead of a table.
+// A material's `measured`: its table's place (a MERL table, or under BRDF_RGL an anisotropic RGL material's
+// floats, brdf/rgl.glsl), and MEASURED_SAMPLED when the exact mode draws from the table's own sampler (the
+// scene's `sampler`, true unless set false).
 const uint MEASURED_SAMPLED = 0x80000000u;
-const uint MEASURED_RGL = 0x40000000u;
-uint measured_table(uint field) { return field & ~(MEASURED_SAMPLED | MEASURED_RGL); }
+uint measured_table(uint field) { return field & ~MEASURED_SAMPLED; }
 
 // A unit vector perpendicular to unit n.
 vec3 any_tangent(vec3 n) {
@@ -119,16 +118,18 @@ vec3 measured_lookup(uint table, vec3 c) {
     return mix(vec3(0.0), sum / max(weight, vec3(1e-30)), greaterThan(weight, vec3(0.0)));
 }
 
-// f_r(wi, wo) of the material's table (its `measured`) about n with the tangent t (the frame X = t,
-// Y = n x t, which only an anisotropic RGL material reads), both above the horizon. Mirrors
-// MeasuredTable::eval_in_frame.
-vec3 measured(uint field, vec3 n, vec3 t, vec3 wi, vec3 wo) {
-    if ((field & MEASURED_RGL) != 0u) {
-        vec3 b = cross(n, t);
-        return rgl_eval_local(measured_table(field), vec3(dot(wi, t), dot(wi, b), dot(wi, n)),
-                              vec3(dot(wo, t), dot(wo, b), dot(wo, n)));
-    }
+// f_r(wi, wo) of the material's table (its `measured`) about n, both above the horizon. Mirrors
+// MeasuredTable::eval.
+vec3 measured(uint field, vec3 n, vec3 wi, vec3 wo) {
     return measured_lookup(measured_table(field), measured_coordinates(half_diff_angles(n, wi, wo)));
+}
+
+// f_r(wi, wo) of an anisotropic RGL material in the table's place (its `measured`) about n with the tangent
+// t, in the frame X = t, Y = n x t, both above the horizon. Mirrors MeasuredTable::eval_in_frame.
+vec3 measured_rgl(uint field, vec3 n, vec3 t, vec3 wi, vec3 wo) {
+    vec3 b = cross(n, t);
+    return rgl_eval_local(measured_table(field), vec3(dot(wi, t), dot(wi, b), dot(wi, n)),
+                          vec3(dot(wo, t), dot(wo, b), dot(wo, n)));
 }
 
 #endif

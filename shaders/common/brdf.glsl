@@ -32,6 +32,9 @@ const uint BRDF_BLINN_PHONG = 3u;
 const uint BRDF_COOK_TORRANCE = 4u;
 const uint BRDF_MEASURED = 5u;
 const uint BRDF_ANALYTIC = 6u;
+// An anisotropic RGL file (brdf/rgl.glsl), its floats in a measured table's place: an id of its own, so that
+// the measured tables' pipelines do not compile its evaluation.
+const uint BRDF_RGL = 7u;
 const uint BRDF_FROM_MATERIAL = 0xFFFFFFFFu;
 
 layout(constant_id = 0) const uint BRDF_SPECIALIZED = BRDF_FROM_MATERIAL;
@@ -88,7 +91,9 @@ vec3 brdf_eval(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
             return cook_torrance(n, wi, wo, m.kd.rgb, m.f0.rgb, m.roughness, m.metalness,
                                  DIFFUSE_SPECIALIZED == BRDF_FROM_MATERIAL ? m.diffuse : DIFFUSE_SPECIALIZED);
         case BRDF_MEASURED:
-            return measured(m.measured, n, t, wi, wo);
+            return measured(m.measured, n, wi, wo);
+        case BRDF_RGL:
+            return measured_rgl(m.measured, n, t, wi, wo);
 #ifdef ANALYTIC_BRDF
         case BRDF_ANALYTIC:
             return analytic_checked(m.analytic, n, t, wi, wo);
@@ -114,6 +119,7 @@ vec3 brdf_eval_diffuse(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
             return (1.0 - m.metalness) * (m.diffuse == DIFFUSE_LAMBERT ? lambert(m.kd.rgb)
                                                                         : oren_nayar(n, wi, wo, m.kd.rgb, m.roughness));
         case BRDF_MEASURED:
+        case BRDF_RGL:
         case BRDF_ANALYTIC:
             return brdf_eval(m, n, t, wi, wo);
         default:

@@ -102,9 +102,6 @@ pub struct GpuObject {
 /// (`MEASURED_SAMPLED` of `shaders/brdf/measured.glsl`).
 pub const MEASURED_SAMPLED: u32 = 1 << 31;
 
-/// In [`GpuMaterial::measured`], beside the table's place: the place holds an anisotropic RGL material
-/// (`MEASURED_RGL` of `shaders/brdf/measured.glsl`, read by `shaders/brdf/rgl.glsl`).
-pub const MEASURED_RGL: u32 = 1 << 30;
 
 /// The BRDF ids of `shaders/common/brdf.glsl`: this one [`Brdf::Lambert`].
 pub const BRDF_LAMBERT: u32 = 0;
@@ -120,6 +117,9 @@ pub const BRDF_COOK_TORRANCE: u32 = 4;
 pub const BRDF_MEASURED: u32 = 5;
 /// [`Brdf::Analytic`]: a user's `.brdf` model, its values in the analytic values' buffer.
 pub const BRDF_ANALYTIC: u32 = 6;
+/// [`Brdf::Measured`] of an anisotropic RGL file: its floats in the measured tables' buffer
+/// (`shaders/brdf/rgl.glsl`).
+pub const BRDF_RGL: u32 = 7;
 /// The diffuse ids under a Cook-Torrance lobe: this one [`DiffuseModel::OrenNayar`] (the default).
 pub const DIFFUSE_OREN_NAYAR: u32 = 0;
 /// [`DiffuseModel::Lambert`].
@@ -208,6 +208,7 @@ pub fn brdf_id(brdf: &Brdf) -> u32 {
         Brdf::Phong { .. } => BRDF_PHONG,
         Brdf::BlinnPhong { .. } => BRDF_BLINN_PHONG,
         Brdf::CookTorrance { .. } => BRDF_COOK_TORRANCE,
+        Brdf::Measured(m) if m.table().anisotropic().is_some() => BRDF_RGL,
         Brdf::Measured(_) => BRDF_MEASURED,
         Brdf::Analytic(_) => BRDF_ANALYTIC,
     }
@@ -244,9 +245,7 @@ impl GpuMaterial {
         let base = GpuMaterial { brdf: brdf_id(brdf), ..GpuMaterial::default() };
         match *brdf {
             Brdf::Measured(ref table) => GpuMaterial {
-                measured: data.measured.slot(table)
-                    | if table.sampled() { MEASURED_SAMPLED } else { 0 }
-                    | if table.table().anisotropic().is_some() { MEASURED_RGL } else { 0 },
+                measured: data.measured.slot(table) | if table.sampled() { MEASURED_SAMPLED } else { 0 },
                 ..base
             },
             Brdf::Analytic(ref material) => GpuMaterial { analytic: data.analytic.first(material), ..base },

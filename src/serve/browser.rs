@@ -177,8 +177,6 @@ fn material(brdf: &Brdf) -> Json {
         "kd": m.kd, "ks": m.ks, "f0": m.f0, "brdf": m.brdf, "shininess": m.shininess, "sigma": m.sigma,
         "roughness": m.roughness, "metalness": m.metalness, "diffuse": m.diffuse,
         "measured_table": matches!(brdf, Brdf::Measured(_)),
-        // The table's place holds an anisotropic RGL material (MEASURED_RGL of brdf/measured.glsl).
-        "measured_rgl": matches!(brdf, Brdf::Measured(m) if m.table().anisotropic().is_some()),
     });
     if let Brdf::Analytic(analytic) = brdf {
         let mut offsets = serde_json::Map::new();

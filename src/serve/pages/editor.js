@@ -199,7 +199,7 @@ function withStudentModel(scene, index, model) {
   const zero = [0, 0, 0, 0];
   derived.browser.materials[name] = {
     kd: zero, ks: zero, f0: zero, brdf: ANALYTIC_BRDF_ID, shininess: 0, sigma: 0, roughness: 0, metalness: 0,
-    diffuse: 0, measured_table: false, measured_rgl: false, analytic_values: model.values, analytic_offsets: model.offsets,
+    diffuse: 0, measured_table: false, analytic_values: model.values, analytic_offsets: model.offsets,
   };
   derived.objects[index].material = name;
   derived.browser.objects[index].material = name;

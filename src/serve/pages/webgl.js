@@ -450,9 +450,7 @@ class BrowserRenderer {
       floats.set(m.f0, 40);
       uints[44] = m.brdf;
       floats.set([m.shininess, m.sigma, m.roughness, m.metalness], 45);
-      // `measured`: the table's place, and MEASURED_RGL (brdf/measured.glsl) where it holds an RGL material.
-      const measured = (this.tableSlots[object.material] || 0) + (m.measured_rgl ? 0x40000000 : 0);
-      uints.set([m.diffuse, measured, firsts[object.material] || 0], 49);
+      uints.set([m.diffuse, this.tableSlots[object.material] || 0, firsts[object.material] || 0], 49);
       uints.set(object.flags, 52);
     });
     gl.bindBuffer(gl.UNIFORM_BUFFER, this.objects);
