@@ -102,7 +102,6 @@ pub struct GpuObject {
 /// (`MEASURED_SAMPLED` of `shaders/brdf/measured.glsl`).
 pub const MEASURED_SAMPLED: u32 = 1 << 31;
 
-
 /// The BRDF ids of `shaders/common/brdf.glsl`: this one [`Brdf::Lambert`].
 pub const BRDF_LAMBERT: u32 = 0;
 /// [`Brdf::OrenNayar`].
