@@ -326,6 +326,21 @@ fn description_only() -> rgl::tensor::Fields {
     fields
 }
 
+/// The number that follows `after` in `text` (panics naming the text where there is none).
+fn number_after(text: &str, after: &str) -> f64 {
+    let at = text.find(after).unwrap_or_else(|| panic!("no {after:?} in {text}")) + after.len();
+    text[at..].split(|c: char| c != '.' && !c.is_ascii_digit()).next().unwrap().parse().unwrap()
+}
+
+/// `vk-render compare a b -o report`: what it says, and its mean, p99 and max differences in levels.
+fn compare_scenes(a: &Path, b: &Path, report: &Path) -> (String, [f64; 3]) {
+    let output = vk_render(&["compare", a.to_str().unwrap(), b.to_str().unwrap(), "-o", report.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(output.status.success(), "{said}{}", String::from_utf8_lossy(&output.stderr));
+    let levels = ["mean ", "p99 ", "max "].map(|word| number_after(&said, word));
+    (said, levels)
+}
+
 /// An RGL file of our own (`vk-render tabulate -o NAME.bsdf`, Figure 4's gold) is a measured material: it
 /// renders as the model it was made from (`vk-render compare`) and as the CPU reference's own reading of the
 /// file, and a fit of every built-in model ranks that model first with its parameters.
@@ -344,16 +359,7 @@ fn an_rgl_file_of_figure_4s_gold_renders_and_fits_as_the_gold() {
     let scene = dir.path().join("rgl-gold.toml");
     let material = format!("[material.gold]\nbrdf = \"measured\"\nfile = \"{}\"", file.display());
     std::fs::write(&scene, format!("{}{material}{}", &text[..start], &text[end..])).unwrap();
-    let report = dir.path().join("compare.png");
-    let args = ["compare", scene.to_str().unwrap(), figure.to_str().unwrap(), "-o", report.to_str().unwrap()];
-    let output = vk_render(&args);
-    let said = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{said}{}", String::from_utf8_lossy(&output.stderr));
-    let number = |after: &str| -> f64 {
-        let at = said.find(after).unwrap_or_else(|| panic!("{said}")) + after.len();
-        said[at..].split(|c: char| c != '.' && !c.is_ascii_digit()).next().unwrap().parse().unwrap()
-    };
-    let (mean, p99, max) = (number("mean "), number("p99 "), number("max "));
+    let (said, [mean, p99, max]) = compare_scenes(&scene, &figure, &dir.path().join("compare.png"));
     eprintln!("Figure 4 with the gold from its RGL file against the model: {said}");
     // Measured: mean 0.041, p99 1, max 4 levels.
     assert!(mean <= 0.1 && p99 <= 1.0 && max <= 6.0, "{said}");
@@ -397,19 +403,11 @@ fn an_anisotropic_rgl_file_renders_and_fits_as_the_model_it_was_made_from() {
 
     let scene = dir.path().join("rgl.toml");
     std::fs::write(&scene, sphere_toml(&format!("brdf = \"measured\"\nfile = \"{}\"", file.display()))).unwrap();
-    let report = dir.path().join("compare.png");
-    let output =
-        vk_render(&["compare", scene.to_str().unwrap(), model.to_str().unwrap(), "-o", report.to_str().unwrap()]);
-    let said = String::from_utf8_lossy(&output.stdout).into_owned();
-    assert!(output.status.success(), "{said}{}", String::from_utf8_lossy(&output.stderr));
-    let number = |after: &str| -> f64 {
-        let at = said.find(after).unwrap_or_else(|| panic!("{said}")) + after.len();
-        said[at..].split(|c: char| c != '.' && !c.is_ascii_digit()).next().unwrap().parse().unwrap()
-    };
+    let (said, [mean, p99, max]) = compare_scenes(&scene, &model, &dir.path().join("compare.png"));
     eprintln!("Ward's anisotropic sphere from its RGL file against the model: {said}");
     // Measured: mean 0.112, p99 2, max 21 levels (the largest by the grazing light's highlight, where Ward's
     // lobe grows as 1 / sqrt(cos cos) between the file's elevations).
-    assert!(number("mean ") <= 0.2 && number("p99 ") <= 2.0 && number("max ") <= 30.0, "{said}");
+    assert!(mean <= 0.2 && p99 <= 2.0 && max <= 30.0, "{said}");
     let loaded = Scene::load(&scene, &[]).unwrap();
     let c = check_against_reference("the anisotropic RGL file", &loaded, |c| acceptable(c) && c.mean_abs <= 0.2);
     eprintln!("the anisotropic RGL file, GPU against the reference (both reading the file): {c}");
@@ -420,10 +418,7 @@ fn an_anisotropic_rgl_file_renders_and_fits_as_the_model_it_was_made_from() {
     assert!(output.status.success(), "{said}{}", String::from_utf8_lossy(&output.stderr));
     eprintln!("{said}");
     let first = said.lines().find(|l| l.starts_with("1. ")).unwrap_or_else(|| panic!("{said}"));
-    let value = |name: &str| -> f32 {
-        let at = first.find(name).unwrap_or_else(|| panic!("{said}")) + name.len();
-        first[at..].split(|c: char| c != '.' && !c.is_ascii_digit()).next().unwrap().parse().unwrap()
-    };
+    let value = |name: &str| number_after(first, name);
     // Measured: alpha_x 0.2006 and alpha_y 0.4491 for 0.2 and 0.45, residual 0.87%.
     assert!(first.starts_with("1. ward.brdf"), "{said}");
     assert!((value("alpha_x = ") - 0.2).abs() < 0.01 && (value("alpha_y = ") - 0.45).abs() < 0.01, "{said}");

@@ -70,13 +70,14 @@ pub struct Measured {
 
 impl PartialEq for Measured {
     fn eq(&self, other: &Self) -> bool {
-        (Arc::ptr_eq(&self.table, &other.table) || self.table.path == other.table.path) && self.sampled == other.sampled
+        (Arc::ptr_eq(&self.table, &other.table) || self.table.path == other.table.path)
+            && self.sampled() == other.sampled()
     }
 }
 
 impl fmt::Debug for Measured {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "Measured({:?}{})", self.table.path, if self.sampled { "" } else { ", no sampler" })
+        write!(f, "Measured({:?}{})", self.table.path, if self.sampled() { "" } else { ", no sampler" })
     }
 }
 
@@ -188,10 +189,7 @@ impl MeasuredTable {
     /// material reads). Mirrors `measured` in `shaders/brdf/measured.glsl`.
     pub fn eval_in_frame(&self, n: Vec3, t: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         match &self.anisotropic {
-            Some(material) => {
-                let local = |v: Vec3| Vec3::new(v.dot(t), v.dot(n.cross(t)), v.dot(n));
-                material.eval_local(local(wi), local(wo))
-            }
+            Some(material) => material.eval_in_frame(n, t, wi, wo),
             None => self.eval(n, wi, wo),
         }
     }
@@ -347,7 +345,8 @@ impl MeasuredTable {
         let mut packed = material.pack();
         if packed.len() > 3 * ENTRIES {
             return Err(format!(
-                "the RGL file {} is anisotropic and holds {} floats, more than the {} of a measured table's place                  on the GPU",
+                "the RGL file {} is anisotropic and holds {} floats, more than the {} of a measured table's place \
+                 on the GPU",
                 path.display(),
                 packed.len(),
                 3 * ENTRIES
@@ -389,8 +388,7 @@ impl Measured {
     }
 
     fn sharing(table: Arc<MeasuredTable>) -> Self {
-        let sampled = table.anisotropic.is_none();
-        Self { table, sampled }
+        Self { table, sampled: true }
     }
 
     /// A material of a table in memory.
@@ -403,13 +401,13 @@ impl Measured {
     /// anisotropic RGL material has no sampler: never drawn from.
     #[must_use]
     pub fn with_sampler(self, sampled: bool) -> Self {
-        let sampled = sampled && self.table.anisotropic.is_none();
         Self { sampled, ..self }
     }
 
-    /// Whether the exact mode draws from the table's sampler.
+    /// Whether the exact mode draws from the table's sampler: as the scene asks, and never for an anisotropic
+    /// RGL material.
     pub fn sampled(&self) -> bool {
-        self.sampled
+        self.sampled && self.table.anisotropic.is_none()
     }
 
     /// The table.

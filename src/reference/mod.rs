@@ -133,11 +133,7 @@ impl Reflectance {
         match self {
             Reflectance::Model(brdf) => brdf.eval_in_frame(n, t, wi, wo),
             Reflectance::Measured(file) => file.eval(n, wi, wo),
-            Reflectance::Rgl(file) => {
-                // In the frame X = t, Y = n x t, as the renderer's (an anisotropic file reads it).
-                let local = |v: Vec3| Vec3::new(v.dot(t), v.dot(n.cross(t)), v.dot(n));
-                file.eval_local(local(wi), local(wo))
-            }
+            Reflectance::Rgl(file) => file.eval_in_frame(n, t, wi, wo),
         }
     }
 

@@ -241,6 +241,12 @@ impl RglTable {
         self.isotropic
     }
 
+    /// f_r(wi, wo) about n with the tangent t, in the frame X = t, Y = n x t (which an anisotropic file reads).
+    pub fn eval_in_frame(&self, n: Vec3, t: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
+        let local = |v: Vec3| Vec3::new(v.dot(t), v.dot(n.cross(t)), v.dot(n));
+        self.eval_local(local(wi), local(wo))
+    }
+
     /// f_r for the light's direction `light` and the view `view`, in the surface's frame (the normal +z, the
     /// tangent +x); zero below the horizon.
     pub fn eval_local(&self, light: Vec3, view: Vec3) -> Vec3 {

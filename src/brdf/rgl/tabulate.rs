@@ -12,6 +12,9 @@ use super::tensor::{Field, Fields};
 use super::warp::Grid2D;
 use super::{unit_to_phi, unit_to_theta};
 
+/// Rec. 709's luminance of linear RGB: the file's `luminance` field, and a model's retroreflection's.
+const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
+
 /// Where a model is tabulated.
 pub struct Tabulation {
     /// The incident elevations, radians, increasing from 0.
@@ -117,7 +120,7 @@ pub fn tabulate(
                 for (channel, v) in channels.iter_mut().zip(value.to_array()) {
                     channel[k] = v;
                 }
-                lightness[k] = Vec3::new(0.2126, 0.7152, 0.0722).dot(value);
+                lightness[k] = LUMINANCE.dot(value);
             }
             vndf.extend(visible);
             luminance.extend(lightness);
@@ -165,26 +168,23 @@ pub fn tabulate_model(brdf: &crate::brdf::Brdf, description: &str) -> Result<Fie
         ));
     }
     let f = |light: Vec3, view: Vec3| brdf.eval_in_frame(Vec3::Z, Vec3::X, light, view);
-    let theta_i = MODEL_THETA_I.map(f32::to_radians).to_vec();
-    if let Brdf::CookTorrance { roughness, .. } = brdf {
-        let alpha = roughness * roughness;
-        let ndf = |m: Vec3| crate::brdf::cook_torrance::d_ggx(Vec3::Z, m, alpha);
-        let at = Tabulation { theta_i, phi_i: vec![0.0], ndf_nodes: 64, sample_nodes: 48 };
-        return tabulate(description, &ndf, &f, &at);
-    }
-    let luminance = Vec3::new(0.2126, 0.7152, 0.0722);
-    // A floor of the cosine's density keeps every direction's visible normals a density.
-    let ndf = |m: Vec3| (luminance.dot(f(m, m)) * m.z * m.z).max(1e-6 * m.z);
-    let at = match brdf {
-        Brdf::Analytic(_) => Tabulation {
-            theta_i,
-            phi_i: (0..=(360.0 / MODEL_PHI_STEP) as usize)
-                .map(|k| (k as f32 * MODEL_PHI_STEP - 180.0).to_radians())
-                .collect(),
-            ndf_nodes: 64,
-            sample_nodes: 40,
-        },
-        _ => Tabulation { theta_i, phi_i: vec![0.0], ndf_nodes: 64, sample_nodes: 48 },
+    let ndf = |m: Vec3| match brdf {
+        Brdf::CookTorrance { roughness, .. } => crate::brdf::cook_torrance::d_ggx(Vec3::Z, m, roughness * roughness),
+        // A floor of the cosine's density keeps every direction's visible normals a density.
+        _ => (LUMINANCE.dot(f(m, m)) * m.z * m.z).max(1e-6 * m.z),
+    };
+    // A .brdf model may be anisotropic: its incident azimuths over the whole turn, fewer samples each.
+    let anisotropic = matches!(brdf, Brdf::Analytic(_));
+    let phi_i = if anisotropic {
+        (0..=(360.0 / MODEL_PHI_STEP) as usize).map(|k| (k as f32 * MODEL_PHI_STEP - 180.0).to_radians()).collect()
+    } else {
+        vec![0.0]
+    };
+    let at = Tabulation {
+        theta_i: MODEL_THETA_I.map(f32::to_radians).to_vec(),
+        phi_i,
+        ndf_nodes: 64,
+        sample_nodes: if anisotropic { 40 } else { 48 },
     };
     tabulate(description, &ndf, &f, &at)
 }
