@@ -18,8 +18,10 @@ OUT ?= out
 
 all: render
 
-## setup: install the packages to build and run vk-render (apt-get; quiet when all are present)
+## setup: install the packages to build and run vk-render (apt-get; quiet when all are present), after making
+## /dev/null the null device where a container left it a regular file (cargo reads it: scripts/repair-dev-null.sh)
 setup:
+	@scripts/repair-dev-null.sh
 	@scripts/install-packages.sh $(RUNTIME_PACKAGES) $(PREVIEW_PACKAGES) $(BUILD_PACKAGES)
 	@command -v $(CARGO) >/dev/null || { echo "cargo is missing: install Rust from https://rustup.rs" >&2; exit 1; }
 	@scripts/install-wasm-target.sh
