@@ -299,6 +299,38 @@ fn a_fit_recovers_the_parameters_it_was_given() {
 }
 
 #[test]
+fn the_base_colour_model_recovers_one_colour_and_fits_two_with_one() {
+    let close = |a: f32, b: f32| (a - b).abs() <= 0.01 * b.abs().max(0.01);
+    let lambert = DiffuseModel::Lambert;
+    let copper = Vec3::new(0.95, 0.64, 0.54);
+    let one = Brdf::CookTorrance { kd: copper, f0: copper, roughness: 0.5, metalness: 0.6, diffuse: lambert };
+    let fit = fitted(&one, "metallic-roughness");
+    let Brdf::CookTorrance { kd, f0, roughness, metalness, diffuse } = fit.brdf else { panic!("cook-torrance") };
+    assert!(close(roughness, 0.5) && close(metalness, 0.6) && close(f0.y, 0.64) && close(f0.z, 0.54), "{fit:?}");
+    assert!(kd == f0 && diffuse == lambert, "{fit:?}");
+    assert!(fit.residual < 1e-4 * fit.target_rms, "residual {} of {}", fit.residual, fit.target_rms);
+    // kd follows f0: its standard errors are f0's, each determined.
+    let errors = |name: &str| fit.parameters.iter().find(|p| p.name == name).map(|p| p.errors.clone());
+    assert!(errors("kd").is_some() && errors("kd") == errors("f0"), "{:?}", fit.parameters);
+    assert!(errors("metalness").is_some_and(|e| e[0].is_some()), "{:?}", fit.parameters);
+    // Two colours (a lacquer): one colour between them, the residual what one colour cannot make. Measured:
+    // kd = f0 = (0.591, 0.351, 0.174), metalness 0.389, roughness 0.401, 4.9% of the material's own.
+    let lacquer = Brdf::CookTorrance {
+        kd: Vec3::new(0.5, 0.25, 0.125),
+        f0: Vec3::new(0.9, 0.6, 0.3),
+        roughness: 0.4,
+        metalness: 0.25,
+        diffuse: lambert,
+    };
+    let fit = fitted(&lacquer, "metallic-roughness");
+    let Brdf::CookTorrance { kd, f0, roughness, metalness, .. } = fit.brdf else { panic!("cook-torrance") };
+    let relative = fit.residual / fit.target_rms;
+    assert!(kd == f0 && (0.3..0.5).contains(&metalness) && close(roughness, 0.4), "{fit:?}");
+    assert!(f0.x > 0.5 && f0.x < 0.9 && f0.z > 0.125 && f0.z < 0.3, "{fit:?}");
+    assert!(relative > 0.01 && relative < 0.06, "{relative}");
+}
+
+#[test]
 fn blinn_phong_fitted_to_ggx_nears_walters_mapping_as_the_lobe_narrows() {
     // Walter et al. 2007: Blinn-Phong's exponent 2 / alpha^2 - 2 matches Beckmann's D of width alpha. GGX is
     // Beckmann-like near its peak and has longer tails, so the fitted exponent tends to the mapping as alpha

@@ -8,6 +8,7 @@ With the format's own G and Fresnel, the difference is the models' own, bounded 
 docs/export.md (BOUNDS)."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -174,6 +175,40 @@ def test_fit_exports_the_best_fit_a_format_holds(tmp_path):
     refused = cli("fit", analysis, "--material", "phong", "--to", "phong", "--export", "gltf", "--export-to", out,
                   check=False)
     assert refused.returncode == 1 and "--export" in refused.stderr and "cook-torrance" in refused.stderr
+
+
+def written(stdout):
+    """The material the `written as` line describes (`NAME (cook-torrance kd (r, g, b), f0 (r, g, b), roughness R,
+    metalness M, lambert diffuse) written as`), as a material of the scene format."""
+    line = next(line for line in stdout.splitlines() if " written as " in line)
+    found = re.search(r"kd \(([^)]*)\), f0 \(([^)]*)\), roughness ([-0-9.e]+), metalness ([-0-9.e]+), lambert", line)
+    assert found, line
+    kd, f0 = ([float(v) for v in colour.split(",")] for colour in found.groups()[:2])
+    return {"brdf": "cook-torrance", "kd": kd, "f0": f0, "roughness": float(found.group(3)),
+            "metalness": float(found.group(4)), "diffuse": "lambert"}
+
+
+@pytest.mark.parametrize("format", FORMATS)
+def test_a_two_colour_fit_exports_to_every_format_as_the_model_fitted(renderer, tmp_path, format):
+    # The lacquer's own Cook-Torrance (two colours) is its fit; Standard Surface and OpenPBR, with one base
+    # colour, take the metallic-roughness fit made for them (4.9% from the lacquer).
+    out = tmp_path / f"fit.{FORMATS[format]}"
+    done = cli("fit", scene_of(tmp_path), "--material", "lacquer", "--to", "cook-torrance", "--export", format,
+               "--export-to", out)
+    material = written(done.stdout)
+    if format in ("materialx", "openpbr"):
+        assert "one base colour for both lobes: fitting metallic-roughness too" in done.stdout, done.stdout
+        assert "exporting the metallic-roughness fit" in done.stdout, done.stdout
+        assert material["kd"] == material["f0"] and 0 < material["metalness"] < 1, material
+        ranked = next(line for line in done.stdout.splitlines() if ". metallic-roughness " in line)
+        assert f"metalness = {material['metalness']}" in ranked, ranked
+    else:
+        assert material == MATERIALS["lacquer"], material
+    # The file, read back by its own tools and evaluated by its format's definition (the course's G and
+    # Schlick's Fresnel put in), is the fitted model.
+    wi, wo = directions()
+    ours = renderer.brdf(material, wi.astype(np.float32), wo.astype(np.float32)).astype(float)
+    assert difference(by_definition(format, out, wi, wo, True), ours, wo) < 2e-4
 
 
 def test_what_cannot_be_exported_is_refused_in_one_line_and_nothing_is_written(tmp_path):

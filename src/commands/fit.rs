@@ -9,7 +9,8 @@ use clap::Args;
 
 use super::{counter, SetArgs};
 use vk_render::analysis::fit::{
-    fit, fit_measurement, parameters, Determined, Fit, FitModel, DEFAULT_THETA_I, FIT_MODELS, NGAN_MAX_THETA,
+    fit, fit_measurement, parameters, Determined, Fit, FitModel, BASE_COLOUR_MODEL, DEFAULT_THETA_I, FIT_MODELS,
+    NGAN_MAX_THETA,
 };
 use vk_render::analysis::image_fit::{object_of, SceneImage};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
@@ -17,7 +18,7 @@ use vk_render::analysis::{describe, rgb, select_materials, Channel, NamedBrdf};
 use vk_render::brdf::{Analytic, AnalyticModel, Brdf, Measured};
 use vk_render::chart::{write_chart, ChartFile, LineChart, LobeChart, Series, PALETTE};
 use vk_render::check::report::read_image;
-use vk_render::export::{CourseMaterial, EXPORTED_MODELS};
+use vk_render::export::{export, CourseMaterial, Format, EXPORTED_MODELS};
 use vk_render::output::write_file;
 use vk_render::{Renderer, RendererOptions, Scene};
 
@@ -48,8 +49,9 @@ pub struct FitArgs {
     material: Option<String>,
 
     /// The model to fit to it: one of the course's (lambert, oren-nayar, phong, blinn-phong, cook-torrance),
-    /// "all" for every one of those, a .brdf file, or a folder of .brdf files; several, comma-separated, are
-    /// ranked by their residuals.
+    /// "all" for every one of those, metallic-roughness (Cook-Torrance with one base colour, kd = f0, as glTF,
+    /// Standard Surface and OpenPBR have it), a .brdf file, or a folder of .brdf files; several,
+    /// comma-separated, are ranked by their residuals.
     #[arg(long, value_name = "MODEL,...", value_delimiter = ',', required = true)]
     to: Vec<String>,
 
@@ -74,7 +76,8 @@ pub struct FitArgs {
     chart: Option<PathBuf>,
 
     /// A material: also write the best fit for another renderer, in this format, to --export-to (see
-    /// docs/export.md).
+    /// docs/export.md); for a format with one base colour (materialx, openpbr), metallic-roughness is fitted
+    /// too where the best Cook-Torrance fit has two colours.
     #[arg(long, value_name = "FORMAT", value_parser = super::export::format_names(), requires = "export_to")]
     export: Option<String>,
 
@@ -94,9 +97,7 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
         }
     }
     let models = fit_models(&args.to, &args.hold)?;
-    if args.export.is_some()
-        && !models.iter().any(|m| matches!(m, FitModel::BuiltIn(name) if EXPORTED_MODELS.contains(name)))
-    {
+    if args.export.is_some() && !models.iter().any(|m| m.scene_model().is_some_and(|n| EXPORTED_MODELS.contains(&n))) {
         anyhow::bail!("--export: the formats take a fit to {} (add one to --to)", EXPORTED_MODELS.join(", "));
     }
     if let (Some(image), Some(scene), Some(object)) = (&args.image, &args.image_scene, args.object) {
@@ -126,22 +127,46 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
     for model in &models {
         fits.push((model.name(), fit_to(&mut renderer, &target.brdf, model, &args.theta_i)?));
     }
+    let format = args.export.as_deref().and_then(Format::named);
+    if let Some(format) = format {
+        if let Some(base_colour) = base_colour_fit_needed(&target.name, &fits, format) {
+            fits.push((base_colour.name(), fit_to(&mut renderer, &target.brdf, &base_colour, &args.theta_i)?));
+        }
+    }
     print_fits(&target, &fits, &args.theta_i);
     if let Some(output) = &args.output {
         draw_lobes(&mut renderer, &target, &fits, &args.theta_i, output)?;
     }
-    if let (Some(format), Some(export_to)) = (&args.export, &args.export_to) {
-        // The best of the fits a format can hold (a Phong fit may rank first).
-        let exportable = fits.iter().filter(|(_, f)| CourseMaterial::of(&f.brdf).is_ok());
+    if let (Some(format), Some(export_to)) = (format, &args.export_to) {
+        // The best of the fits the format can hold (a Phong fit may rank first).
+        let exportable = fits.iter().filter(|(_, f)| export(&target.name, &f.brdf, format).is_ok());
         if let Some((model, best)) = exportable.min_by(|a, b| a.1.residual.total_cmp(&b.1.residual)) {
             if fits.len() > 1 {
-                println!("exporting the {model} fit, the best of those the formats hold");
+                println!("exporting the {model} fit, the best of those {} holds", format.title());
             }
             let fitted = NamedBrdf { name: target.name.clone(), brdf: best.brdf.clone() };
-            super::export::write_export(&fitted, format, export_to)?;
+            super::export::write_export(&fitted, format.name(), export_to)?;
         }
     }
     Ok(())
+}
+
+/// The base colour model, when the best fit of a model the formats hold is a Cook-Torrance with two colours
+/// that `format` (Standard Surface, OpenPBR: one base colour) cannot hold: fitted too, it is what the format
+/// takes.
+fn base_colour_fit_needed(name: &str, fits: &[(String, Fit)], format: Format) -> Option<FitModel> {
+    let course = fits.iter().filter(|(_, f)| CourseMaterial::of(&f.brdf).is_ok());
+    let (_, best) = course.min_by(|a, b| a.1.residual.total_cmp(&b.1.residual))?;
+    let refused = matches!(best.brdf, Brdf::CookTorrance { .. }) && export(name, &best.brdf, format).is_err();
+    let fitted = fits.iter().any(|(model, _)| model == BASE_COLOUR_MODEL);
+    if refused && !fitted {
+        println!(
+            "{} has one base colour for both lobes: fitting {BASE_COLOUR_MODEL} too (Cook-Torrance with kd = f0)",
+            format.title()
+        );
+        return FitModel::named(BASE_COLOUR_MODEL);
+    }
+    None
 }
 
 /// The models `--to` names (see [`FitArgs`]), each analytic one holding those of `held` it has.
@@ -267,7 +292,7 @@ fn print_fits(target: &NamedBrdf, fits: &[(String, Fit)], theta_i: &[f64]) {
         let values: Vec<String> =
             parameter_values(&fitted.brdf).into_iter().map(|(n, v)| format!("{n} = {v}")).collect();
         println!(
-            "{}. {model:<14} residual {:.6} ({:.2}%)  {}",
+            "{}. {model:<18} residual {:.6} ({:.2}%)  {}",
             rank + 1,
             fitted.residual,
             relative(fitted),

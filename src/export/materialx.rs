@@ -25,7 +25,8 @@ pub(super) fn write(
         return Err(format!(
             "{} has one base colour for its diffuse and metal lobes, and this material's kd {} and f0 {} differ \
              with metalness {} (neither lobe alone): no parameters of it make this lobe. glTF \
-             (KHR_materials_specular), Mitsuba and pbrt hold it",
+             (KHR_materials_specular), Mitsuba and pbrt hold it; the nearest material with one base colour is \
+             a fit (vk-render fit SCENE --material NAME --to metallic-roughness --export FORMAT --export-to OUT)",
             format.title(),
             super::triple(material.kd),
             super::triple(material.f0),

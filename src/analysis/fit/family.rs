@@ -2,14 +2,15 @@
 //! it solves by linear least squares at every point of the search (variable projection).
 //!
 //! The course's models are linear in their colours: f = sum over k of c_k b_k, the b_k the model with unit
-//! colours, so only their one shape parameter is searched. An analytic model (a `.brdf` file) is searched over
+//! colours, so only their one shape parameter is searched (and the metalness of Cook-Torrance with one base
+//! colour, [`BASE_COLOUR_MODEL`], where the colour multiplies both lobes but for the metal's S0). An analytic model (a `.brdf` file) is searched over
 //! every float parameter not held, within the file's range; its colours are solved linearly when the model
 //! is linear in them (found by evaluating it, [`linear_colours`]), and searched as three parameters each in
 //! [0, 1] otherwise; bools and held parameters keep their values.
 
 use glam::Vec3;
 
-use super::Values;
+use super::{Values, BASE_COLOUR_MODEL};
 use crate::brdf::{Analytic, Brdf, DiffuseModel, ParameterKind, ParameterValue};
 use crate::error::Result;
 
@@ -54,8 +55,9 @@ pub(super) struct Projection {
 
 /// A model as a fit varies it.
 pub(super) enum Family {
-    /// One of the course's models, its one shape parameter searched (`None`: Lambert has none).
-    BuiltIn { name: &'static str, shape: Option<(&'static str, Bound)>, diffuse: DiffuseModel },
+    /// One of the course's models (or [`BASE_COLOUR_MODEL`]), its shape parameters searched (Lambert has
+    /// none).
+    BuiltIn { name: &'static str, shape: Vec<(&'static str, Bound)>, diffuse: DiffuseModel },
     /// A `.brdf` file.
     Analytic(AnalyticFamily),
 }
@@ -70,14 +72,16 @@ pub(super) struct AnalyticFamily {
     linear: Vec<String>,
 }
 
-/// The shape parameter of each built-in model fitted, its bounds and scale.
-pub(super) fn built_in_shape(name: &str) -> Option<Option<(&'static str, Bound)>> {
+/// The shape parameters of each built-in model fitted, their bounds and scales.
+pub(super) fn built_in_shape(name: &str) -> Option<Vec<(&'static str, Bound)>> {
     let bound = |low, high, log| Bound { low, high, log };
+    let roughness = ("roughness", bound(0.02, 1.0, true));
     Some(match name {
-        "lambert" => None,
-        "oren-nayar" => Some(("sigma", bound(0.0, 1.5, false))),
-        "phong" | "blinn-phong" => Some(("shininess", bound(0.5, 20000.0, true))),
-        "cook-torrance" => Some(("roughness", bound(0.02, 1.0, true))),
+        "lambert" => vec![],
+        "oren-nayar" => vec![("sigma", bound(0.0, 1.5, false))],
+        "phong" | "blinn-phong" => vec![("shininess", bound(0.5, 20000.0, true))],
+        "cook-torrance" => vec![roughness],
+        BASE_COLOUR_MODEL => vec![roughness, ("metalness", bound(0.0, 1.0, false))],
         _ => return None,
     })
 }
@@ -121,10 +125,7 @@ impl Family {
     /// What the search evaluates at `x` (the searched parameters' values).
     pub fn projection(&self, x: &[f64]) -> Projection {
         match self {
-            Family::BuiltIn { name, diffuse, .. } => {
-                let shape = x.first().copied().unwrap_or(0.0) as f32;
-                Projection { offset: None, basis: built_in_basis(name, shape, *diffuse) }
-            }
+            Family::BuiltIn { name, diffuse, .. } => built_in_projection(name, x, *diffuse),
             Family::Analytic(family) => {
                 let at = family.at(x);
                 if family.linear.is_empty() {
@@ -141,9 +142,7 @@ impl Family {
     /// model's ranges.
     pub fn assemble(&self, x: &[f64], c: &[Vec3]) -> Brdf {
         match self {
-            Family::BuiltIn { name, diffuse, .. } => {
-                built_in_assemble(name, x.first().copied().unwrap_or(0.0) as f32, *diffuse, c)
-            }
+            Family::BuiltIn { name, diffuse, .. } => built_in_assemble(name, x, *diffuse, c),
             Family::Analytic(family) => {
                 let at = family.at(x);
                 family.linear.iter().zip(c).fold(at, |m, (name, colour)| with_colour(&m, name, colour.max(Vec3::ZERO)))
@@ -163,8 +162,15 @@ impl Family {
                     _ => Vec3::ZERO,
                 })
                 .collect(),
+            (Family::BuiltIn { name: BASE_COLOUR_MODEL, .. }, Brdf::CookTorrance { f0, .. }) => vec![*f0],
             (_, brdf) => built_in_coefficients(brdf),
         }
+    }
+
+    /// A parameter that follows another, as (leader, follower): the base colour model's kd is its f0. The
+    /// fit's standard errors move them together, and give the follower the leader's.
+    pub fn tied(&self) -> Option<(&'static str, &'static str)> {
+        matches!(self, Family::BuiltIn { name: BASE_COLOUR_MODEL, .. }).then_some(("f0", "kd"))
     }
 
     /// The parameters a fit determines, by [`super::parameters`]'s names: a built-in model's every one, an
@@ -329,25 +335,31 @@ fn linear_at(start: &Analytic, colours: &[String], values: &mut Values) -> Resul
     Ok(true)
 }
 
-/// A built-in model's basis at `shape`: the model with unit colours, one brdf per coefficient.
-fn built_in_basis(name: &str, shape: f32, diffuse: DiffuseModel) -> Vec<Brdf> {
+/// A built-in model's projection at `x` (its shape parameters): the model with unit colours, one brdf per
+/// coefficient, and for the base colour model the part no colour multiplies.
+fn built_in_projection(name: &str, x: &[f64], diffuse: DiffuseModel) -> Projection {
     let (zero, one) = (Vec3::ZERO, Vec3::ONE);
-    match name {
+    let shape = x.first().copied().unwrap_or(0.0) as f32;
+    let lobe = |kd: Vec3, metalness: f32, f0: Vec3| Brdf::CookTorrance { kd, f0, roughness: shape, metalness, diffuse };
+    let basis = match name {
         "lambert" => vec![Brdf::Lambert { kd: one }],
         "oren-nayar" => vec![Brdf::OrenNayar { kd: one, sigma: shape }],
         "phong" => vec![Brdf::Lambert { kd: one }, Brdf::Phong { kd: zero, ks: one, shininess: shape }],
         "blinn-phong" => vec![Brdf::Lambert { kd: one }, Brdf::BlinnPhong { kd: zero, ks: one, shininess: shape }],
-        _ => {
-            // (1 - m) kd f_diffuse + m (S0 + f0 (S1 - S0)): Schlick's F is affine in f0, so the specular
-            // lobe is S0 (f0 = 0) plus f0 times (S1 - S0) (S1: f0 = 1).
-            let lobe =
-                |metalness: f32, f0: Vec3| Brdf::CookTorrance { kd: one, f0, roughness: shape, metalness, diffuse };
-            vec![lobe(0.0, zero), lobe(1.0, zero), lobe(1.0, one)]
+        BASE_COLOUR_MODEL => {
+            // (1 - m) c f_diffuse + m (S0 + c (S1 - S0)) = m S0 + c ((1 - m) f_diffuse + m (S1 - S0)): the
+            // offset m S0 (c = 0), and the model with c = 1 less it.
+            let metalness = x.get(1).copied().unwrap_or(0.0) as f32;
+            return Projection { offset: Some(lobe(zero, metalness, zero)), basis: vec![lobe(one, metalness, one)] };
         }
-    }
+        // (1 - m) kd f_diffuse + m (S0 + f0 (S1 - S0)): Schlick's F is affine in f0, so the specular lobe is S0
+        // (f0 = 0) plus f0 times (S1 - S0) (S1: f0 = 1).
+        _ => vec![lobe(one, 0.0, zero), lobe(one, 1.0, zero), lobe(one, 1.0, one)],
+    };
+    Projection { offset: None, basis }
 }
 
-/// The per-channel coefficients of [`built_in_basis`] that make `brdf`.
+/// The per-channel coefficients of [`built_in_projection`]'s basis that make `brdf`.
 fn built_in_coefficients(brdf: &Brdf) -> Vec<Vec3> {
     match *brdf {
         Brdf::Lambert { kd } | Brdf::OrenNayar { kd, .. } => vec![kd],
@@ -357,15 +369,20 @@ fn built_in_coefficients(brdf: &Brdf) -> Vec<Vec3> {
     }
 }
 
-/// A built-in model from its shape and per-channel coefficients of [`built_in_basis`] (the last two of
-/// Cook-Torrance's are S0 and S1, recombined as metalness and f0 here).
-fn built_in_assemble(name: &str, shape: f32, diffuse: DiffuseModel, c: &[Vec3]) -> Brdf {
+/// A built-in model from its shape parameters `x` and per-channel coefficients of [`built_in_projection`]'s
+/// basis (the last two of Cook-Torrance's are S0 and S1, recombined as metalness and f0 here).
+fn built_in_assemble(name: &str, x: &[f64], diffuse: DiffuseModel, c: &[Vec3]) -> Brdf {
     let unit = |v: Vec3| v.clamp(Vec3::ZERO, Vec3::ONE);
+    let shape = x.first().copied().unwrap_or(0.0) as f32;
     match name {
         "lambert" => Brdf::Lambert { kd: unit(c[0]) },
         "oren-nayar" => Brdf::OrenNayar { kd: unit(c[0]), sigma: shape },
         "phong" => Brdf::Phong { kd: unit(c[0]), ks: c[1].max(Vec3::ZERO), shininess: shape },
         "blinn-phong" => Brdf::BlinnPhong { kd: unit(c[0]), ks: c[1].max(Vec3::ZERO), shininess: shape },
+        BASE_COLOUR_MODEL => {
+            let metalness = x.get(1).copied().unwrap_or(0.0) as f32;
+            Brdf::CookTorrance { kd: unit(c[0]), f0: unit(c[0]), roughness: shape, metalness, diffuse }
+        }
         _ => {
             // c1 S0 + c2 S1 = m S0 + m f0 (S1 - S0): m = c1 + c2 (one metalness for the three channels:
             // their mean), f0 = c2 / m; kd = c0 / (1 - m). Where S0 was not told apart (c1 = 0), m f0 = c2

@@ -28,6 +28,11 @@ type Values<'a> = dyn FnMut(&[Brdf]) -> Result<Vec<Vec<[f64; 3]>>> + 'a;
 /// The models a material can be fitted with, by their scene-file names.
 pub const FIT_MODELS: [&str; 5] = ["lambert", "oren-nayar", "phong", "blinn-phong", "cook-torrance"];
 
+/// Cook-Torrance with one base colour for both lobes (kd = f0), its metalness searched beside its roughness:
+/// the metallic-roughness material of glTF, Standard Surface and OpenPBR, which have one base colour (a
+/// fit's Cook-Torrance has two, which these formats cannot hold at a metalness between 0 and 1).
+pub const BASE_COLOUR_MODEL: &str = "metallic-roughness";
+
 /// The incidence angles fitted over unless told otherwise (degrees).
 pub const DEFAULT_THETA_I: [f64; 6] = [0.0, 15.0, 30.0, 45.0, 60.0, 75.0];
 
@@ -69,7 +74,7 @@ pub struct Determined {
 /// `.brdf` file) searched from a material of it, some of its parameters held at that material's values.
 #[derive(Clone, Debug, PartialEq)]
 pub enum FitModel {
-    /// One of the course's models, by its name in [`FIT_MODELS`].
+    /// One of the course's models, by its name in [`FIT_MODELS`], or [`BASE_COLOUR_MODEL`].
     BuiltIn(&'static str),
     /// An analytic model, searched from a material of it.
     Analytic {
@@ -81,9 +86,19 @@ pub enum FitModel {
 }
 
 impl FitModel {
-    /// The course's model `name`, one of [`FIT_MODELS`].
+    /// The course's model `name`, one of [`FIT_MODELS`], or [`BASE_COLOUR_MODEL`].
     pub fn named(name: &str) -> Option<Self> {
-        FIT_MODELS.iter().find(|m| **m == name).map(|m| FitModel::BuiltIn(m))
+        FIT_MODELS.iter().chain([&BASE_COLOUR_MODEL]).find(|m| **m == name).map(|m| FitModel::BuiltIn(m))
+    }
+
+    /// The scene files' name of the model its fits are (the base colour model's are Cook-Torrance); none for
+    /// an analytic model.
+    pub fn scene_model(&self) -> Option<&'static str> {
+        match self {
+            FitModel::BuiltIn(BASE_COLOUR_MODEL) => Some("cook-torrance"),
+            FitModel::BuiltIn(name) => Some(name),
+            FitModel::Analytic { .. } => None,
+        }
     }
 
     /// An analytic model searched from `start`, the parameters `held` kept at its values (bools always are).
@@ -133,7 +148,10 @@ impl FitModel {
                 };
                 Family::built_in(name, diffuse).ok_or_else(|| Error::Input {
                     path: (*name).into(),
-                    message: format!("not a model to fit (expected one of {})", FIT_MODELS.join(", ")),
+                    message: format!(
+                        "not a model to fit (expected one of {}, {BASE_COLOUR_MODEL})",
+                        FIT_MODELS.join(", ")
+                    ),
                 })
             }
             FitModel::Analytic { start, held } => {

@@ -21,6 +21,9 @@ use crate::error::{Error, Result};
 /// How many points of a one-parameter model's range are tried first (the best of them refined: 25 points leave
 /// it one basin), and how many of an analytic model's best starts are refined.
 const SCAN: usize = 24;
+/// A built-in model's second parameter (the base colour model's metalness) is tried at `SCAN_SECOND + 1`
+/// points of its range with each of the first's.
+const SCAN_SECOND: usize = 4;
 const REFINED: usize = 2;
 
 /// A residual at most this fraction of the target's own size is the target reproduced to float32's precision
@@ -166,15 +169,32 @@ pub(super) fn solve(problem: &Problem, values: &mut Values, progress: &mut dyn F
     Ok(Fit { residual: problem.rms(&fitted), target_rms, brdf, parameters })
 }
 
-/// Where the search starts: a one-parameter built-in model's range scanned at `SCAN + 1` points; an
-/// analytic model's own values, then a Halton sequence over its box (eight points a parameter, at most 48).
+/// Where the search starts: a built-in model's range scanned at `SCAN + 1` points (by `SCAN_SECOND + 1` of a
+/// second parameter's each); an analytic model's own values, then a Halton sequence over its box (eight
+/// points a parameter, at most 48).
 fn starts(family: &Family, bounds: &[Bound]) -> Vec<Vec<f64>> {
     let within = |k: usize, u: f64| {
         let (low, high) = bounds[k].scaled();
         bounds[k].unscaled(low + (high - low) * u).clamp(bounds[k].low, bounds[k].high)
     };
     match family.start() {
-        None => (0..=SCAN).map(|i| vec![within(0, i as f64 / SCAN as f64)]).collect(),
+        None => {
+            let first = (0..=SCAN).map(|i| within(0, i as f64 / SCAN as f64));
+            let seconds: Vec<f64> = match bounds.len() {
+                1 => Vec::new(),
+                _ => (0..=SCAN_SECOND).map(|j| within(1, j as f64 / SCAN_SECOND as f64)).collect(),
+            };
+            first
+                .flat_map(|a| {
+                    let pairs = seconds.iter().map(move |&b| vec![a, b]);
+                    if seconds.is_empty() {
+                        vec![vec![a]]
+                    } else {
+                        pairs.collect()
+                    }
+                })
+                .collect()
+        }
         Some(own) => {
             let count = (8 * bounds.len()).min(48);
             let mut starts = vec![own];
@@ -365,8 +385,19 @@ pub(super) fn determination(
     values: &mut Values,
 ) -> Result<Vec<Determined>> {
     let free = problem.family.free_parameters();
-    let parameters: Vec<(String, Vec<f32>)> =
-        parameters(brdf).into_iter().filter(|(name, _)| free.as_ref().is_none_or(|f| f.contains(name))).collect();
+    let tied = problem.family.tied();
+    let follower = |name: &str| tied.is_some_and(|(_, follower)| follower == name);
+    let parameters: Vec<(String, Vec<f32>)> = parameters(brdf)
+        .into_iter()
+        .filter(|(name, _)| free.as_ref().is_none_or(|f| f.contains(name)) && !follower(name))
+        .collect();
+    // A leader's follower moves with it.
+    let with_parameter = |brdf: &Brdf, name: &str, c: usize, value: f32| match tied {
+        Some((leader, follower)) if leader == name => {
+            with_parameter(&with_parameter(brdf, name, c, value), follower, c, value)
+        }
+        _ => with_parameter(brdf, name, c, value),
+    };
     // One scalar per parameter component: (parameter, component); each moved up and down by a step, the
     // value it then has read back (an analytic model's stays within its range).
     let scalars: Vec<(usize, usize)> =
@@ -413,6 +444,11 @@ pub(super) fn determination(
         .collect();
     for (&(p, c), error) in scalars.iter().zip(errors) {
         determined[p].errors[c] = error;
+    }
+    if let Some((leader, follower)) = tied {
+        if let Some(lead) = determined.iter().find(|d| d.name == leader) {
+            determined.push(Determined { name: follower.into(), ..lead.clone() });
+        }
     }
     Ok(determined)
 }
