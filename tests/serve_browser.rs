@@ -250,7 +250,8 @@ fn mutant_analytic_shaders(folder: &Path, id: &str, file: &str, from: &str, to: 
 const ENVIRONMENT_SCENES: [&str; 3] = ["spheres-sky", "white-furnace", "golden-bunny-studio"];
 
 /// A folder of scenes the browser test serves beside the figures: Figure 3's sphere in a measured material
-/// (Cook-Torrance gold tabulated as a MERL file), Figure 4's gold through ACES and sRGB, two term views, and
+/// (Cook-Torrance gold tabulated as a MERL file) and in an anisotropic RGL file (Ward's alpha 0.2 and 0.45,
+/// tabulated by `vk-render tabulate`), Figure 4's gold through ACES and sRGB, two term views, and
 /// Figure 3 under the sky's light integrated exactly, whose still frame is the server's; and the scenes of
 /// assets/environment/ in the fast mode (`ID-fast`), which the browser draws.
 fn more_scenes(folder: &Path) -> std::path::PathBuf {
@@ -278,7 +279,29 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
         "[material.plastic]\nbrdf = \"measured\"\nfile = \"gold.binary\"",
     );
     assert_ne!(measured, figure, "Figure 3's material is where the test expects it");
-    std::fs::write(scenes.join("measured-gold.toml"), measured).unwrap();
+    std::fs::write(scenes.join("measured-gold.toml"), &measured).unwrap();
+    // The RGL file's model, outside the folder served (not a scene of the catalogue).
+    let ward = common::root().join("assets/brdfs/ward.brdf");
+    let params = "params = { rho_d = [0.1, 0.08, 0.05], rho_s = [0.3, 0.3, 0.3], alpha_x = 0.2, alpha_y = 0.45 }";
+    let model = folder.join("ward-model.toml");
+    let analytic =
+        format!("[material.plastic]\nbrdf = \"analytic\"\nfile = {:?}\n{params}", ward.display().to_string());
+    std::fs::write(
+        &model,
+        measured.replace("[material.plastic]\nbrdf = \"measured\"\nfile = \"gold.binary\"", &analytic),
+    )
+    .unwrap();
+    let bsdf = scenes.join("ward.bsdf");
+    let tabulated = common::vk_render(&[
+        "tabulate",
+        model.to_str().unwrap(),
+        "--material",
+        "plastic",
+        "-o",
+        bsdf.to_str().unwrap(),
+    ]);
+    assert!(tabulated.status.success(), "{}", String::from_utf8_lossy(&tabulated.stderr));
+    std::fs::write(scenes.join("rgl-ward.toml"), measured.replace("gold.binary", "ward.bsdf")).unwrap();
     std::fs::write(scenes.join("sky.toml"), format!("{figure}\n[environment]\nbuiltin = \"sky\"\n")).unwrap();
     // Figure 4's gold through another output transform: exposure, ACES's curve and sRGB's encoding.
     let gold = std::fs::read_to_string(common::root().join("assets/scenes/fig4-gold-metalness-1.0.toml")).unwrap();
@@ -374,7 +397,7 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
             (id, path, json!({}))
         })
         .collect();
-    for id in ["measured-gold", "aces-srgb", "term-d", "term-normal"] {
+    for id in ["measured-gold", "rgl-ward", "aces-srgb", "term-d", "term-normal"] {
         every.push((id.into(), scenes.join(format!("{id}.toml")), json!({})));
     }
     for id in ["anisotropic-spheres", "brushed-tori"] {
@@ -467,6 +490,11 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
                 "prefiltered(mirror(n, wo), lobe_exponent(m))",
                 "prefiltered(n, lobe_exponent(m))",
             ),
+        ),
+        (
+            "an RGL file's grids interpolated with two corners swapped",
+            "rgl-ward",
+            mutant_shaders("brdf/rgl.glsl", "((1.0 - f.x) * v.x + f.x * v.y)", "((1.0 - f.x) * v.y + f.x * v.x)"),
         ),
         (
             "an analytic model's values read from the wrong places",
