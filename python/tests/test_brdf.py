@@ -78,19 +78,25 @@ def test_bad_directions_and_materials_are_named(renderer):
         vk_render.albedo(MATERIALS["lambert"], [90])
 
 
+def tabulated(renderer, tmp_path, material, file, seeds):
+    """A material (its keys) tabulated by `vk-render tabulate` into `file`: the file as a measured material, 500
+    pairs of directions (from the hemisphere's seeds), which of them are away from grazing, and the GPU's values of
+    the file and of the model there."""
+    scene = tmp_path / "model.toml"
+    scene.write_text(f"[material.m]\n{material}\n")
+    cli("tabulate", scene, "--material", "m", "-o", tmp_path / file)
+    measured = {"brdf": "measured", "file": str(tmp_path / file)}
+    wi, wo = hemisphere(500, seeds[0]), hemisphere(500, seeds[1])
+    keep = (wi[:, 2] > 0.2) & (wo[:, 2] > 0.2)
+    return measured, wi, wo, keep, renderer.brdf(measured, wi, wo), renderer.brdf((scene, "m"), wi, wo)
+
+
 def test_a_measured_material_is_its_model(renderer, tmp_path):
     """A MERL file written by `vk-render tabulate` from a Cook-Torrance material: its GPU lookup is the Rust
     mirror's, and within 2% of the model's peak away from grazing directions."""
-    scene = tmp_path / "copper.toml"
-    scene.write_text('[material.copper]\nbrdf = "cook-torrance"\nkd = [0.5, 0.35, 0.3]\nf0 = [0.95, 0.64, 0.54]\n'
-                     'roughness = 0.4\nmetalness = 0.5\n')
-    cli("tabulate", scene, "--material", "copper", "-o", tmp_path / "copper.binary")
-    measured = {"brdf": "measured", "file": str(tmp_path / "copper.binary")}
-    wi, wo = hemisphere(500, 3), hemisphere(500, 4)
-    keep = (wi[:, 2] > 0.2) & (wo[:, 2] > 0.2)
-    gpu = renderer.brdf(measured, wi, wo)
+    copper = 'brdf = "cook-torrance"\nkd = [0.5, 0.35, 0.3]\nf0 = [0.95, 0.64, 0.54]\nroughness = 0.4\nmetalness = 0.5'
+    measured, wi, wo, keep, gpu, model = tabulated(renderer, tmp_path, copper, "copper.binary", (3, 4))
     np.testing.assert_allclose(gpu, vk_render._native.brdf_mirror(measured, wi, wo), rtol=1e-3, atol=1e-4)
-    model = renderer.brdf((scene, "copper"), wi, wo)
     assert np.abs(gpu - model)[keep].max() <= 0.02 * model.max()
 
 
@@ -99,17 +105,11 @@ def test_an_anisotropic_rgl_file_is_its_model(renderer, tmp_path):
     evaluation of the file is the Rust reader's, in the surface's frame (tangent +x), and the model's lobe."""
     from conftest import ROOT
 
-    scene = tmp_path / "ward.toml"
-    scene.write_text(f'[material.m]\nbrdf = "analytic"\nfile = "{ROOT / "assets/brdfs/ward.brdf"}"\n'
-                     'params = { rho_d = [0.1, 0.08, 0.05], rho_s = [0.3, 0.3, 0.3], alpha_x = 0.2, alpha_y = 0.45 }\n')
-    cli("tabulate", scene, "--material", "m", "-o", tmp_path / "ward.bsdf")
-    measured = {"brdf": "measured", "file": str(tmp_path / "ward.bsdf")}
-    wi, wo = hemisphere(500, 5), hemisphere(500, 6)
-    keep = (wi[:, 2] > 0.2) & (wo[:, 2] > 0.2)
-    gpu = renderer.brdf(measured, wi, wo)
-    model = renderer.brdf((scene, "m"), wi, wo)
+    ward = (f'brdf = "analytic"\nfile = "{ROOT / "assets/brdfs/ward.brdf"}"\n'
+            'params = { rho_d = [0.1, 0.08, 0.05], rho_s = [0.3, 0.3, 0.3], alpha_x = 0.2, alpha_y = 0.45 }')
+    measured, wi, wo, keep, gpu, model = tabulated(renderer, tmp_path, ward, "ward.bsdf", (5, 6))
     np.testing.assert_allclose(gpu, vk_render._native.brdf_mirror(measured, wi, wo), rtol=1e-3, atol=1e-5 * model.max())
-    # The widths along x and y are the model's: a lobe turned a quarter about the normal would be far off.
+    # The widths along x and y are the model's: a lobe turned a quarter about the normal would be far off (0.30).
     error = np.abs(gpu - model)[keep].max() / model.max()
     print(f"the anisotropic RGL file against its model, to 78 degrees: {error:.2e} of the peak")
     assert error <= 0.02
