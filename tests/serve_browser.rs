@@ -274,23 +274,21 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
     let table = vk_render::brdf::MeasuredTable::tabulate(path.clone(), |wi, wo| gold.eval(glam::Vec3::Z, wi, wo));
     std::fs::write(&path, table.to_bytes()).unwrap();
     let figure = std::fs::read_to_string(common::root().join("assets/scenes/fig3-plastic-s-16.toml")).unwrap();
-    let measured = figure.replace(
-        "[material.plastic]\nbrdf = \"phong\"\nkd = [0.35, 0.35, 0.35]\nks = [0.15, 0.15, 0.15]\nshininess = 16.0",
-        "[material.plastic]\nbrdf = \"measured\"\nfile = \"gold.binary\"",
-    );
-    assert_ne!(measured, figure, "Figure 3's material is where the test expects it");
-    std::fs::write(scenes.join("measured-gold.toml"), &measured).unwrap();
+    // Figure 3 with its plastic's keys replaced by `keys`.
+    let with_plastic = |keys: &str| {
+        let phong = "brdf = \"phong\"\nkd = [0.35, 0.35, 0.35]\nks = [0.15, 0.15, 0.15]\nshininess = 16.0";
+        let scene = figure.replace(&format!("[material.plastic]\n{phong}"), &format!("[material.plastic]\n{keys}"));
+        assert_ne!(scene, figure, "Figure 3's material is where the test expects it");
+        scene
+    };
+    std::fs::write(scenes.join("measured-gold.toml"), with_plastic("brdf = \"measured\"\nfile = \"gold.binary\""))
+        .unwrap();
     // The RGL file's model, outside the folder served (not a scene of the catalogue).
     let ward = common::root().join("assets/brdfs/ward.brdf");
     let params = "params = { rho_d = [0.1, 0.08, 0.05], rho_s = [0.3, 0.3, 0.3], alpha_x = 0.2, alpha_y = 0.45 }";
     let model = folder.join("ward-model.toml");
-    let analytic =
-        format!("[material.plastic]\nbrdf = \"analytic\"\nfile = {:?}\n{params}", ward.display().to_string());
-    std::fs::write(
-        &model,
-        measured.replace("[material.plastic]\nbrdf = \"measured\"\nfile = \"gold.binary\"", &analytic),
-    )
-    .unwrap();
+    let analytic = format!("brdf = \"analytic\"\nfile = {:?}\n{params}", ward.display().to_string());
+    std::fs::write(&model, with_plastic(&analytic)).unwrap();
     let bsdf = scenes.join("ward.bsdf");
     let tabulated = common::vk_render(&[
         "tabulate",
@@ -301,7 +299,7 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
         bsdf.to_str().unwrap(),
     ]);
     assert!(tabulated.status.success(), "{}", String::from_utf8_lossy(&tabulated.stderr));
-    std::fs::write(scenes.join("rgl-ward.toml"), measured.replace("gold.binary", "ward.bsdf")).unwrap();
+    std::fs::write(scenes.join("rgl-ward.toml"), with_plastic("brdf = \"measured\"\nfile = \"ward.bsdf\"")).unwrap();
     std::fs::write(scenes.join("sky.toml"), format!("{figure}\n[environment]\nbuiltin = \"sky\"\n")).unwrap();
     // Figure 4's gold through another output transform: exposure, ACES's curve and sRGB's encoding.
     let gold = std::fs::read_to_string(common::root().join("assets/scenes/fig4-gold-metalness-1.0.toml")).unwrap();

@@ -128,10 +128,13 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
         fits.push((model.name(), fit_to(&mut renderer, &target.brdf, model, &args.theta_i)?));
     }
     let format = args.export.as_deref().and_then(Format::named);
-    if let Some(format) = format {
-        if let Some(base_colour) = base_colour_fit_needed(&target.name, &fits, format) {
-            fits.push((base_colour.name(), fit_to(&mut renderer, &target.brdf, &base_colour, &args.theta_i)?));
-        }
+    if let Some(format) = format.filter(|&format| base_colour_fit_needed(&target.name, &fits, format)) {
+        println!(
+            "{} has one base colour for both lobes: fitting {BASE_COLOUR_MODEL} too (Cook-Torrance with kd = f0)",
+            format.title()
+        );
+        let base_colour = FitModel::BuiltIn(BASE_COLOUR_MODEL);
+        fits.push((base_colour.name(), fit_to(&mut renderer, &target.brdf, &base_colour, &args.theta_i)?));
     }
     print_fits(&target, &fits, &args.theta_i);
     if let Some(output) = &args.output {
@@ -139,8 +142,7 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
     }
     if let (Some(format), Some(export_to)) = (format, &args.export_to) {
         // The best of the fits the format can hold (a Phong fit may rank first).
-        let exportable = fits.iter().filter(|(_, f)| export(&target.name, &f.brdf, format).is_ok());
-        if let Some((model, best)) = exportable.min_by(|a, b| a.1.residual.total_cmp(&b.1.residual)) {
+        if let Some((model, best)) = best_fit(&fits, |f| export(&target.name, &f.brdf, format).is_ok()) {
             if fits.len() > 1 {
                 println!("exporting the {model} fit, the best of those {} holds", format.title());
             }
@@ -151,22 +153,18 @@ pub fn run(args: FitArgs, options: RendererOptions) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The base colour model, when the best fit of a model the formats hold is a Cook-Torrance with two colours
-/// that `format` (Standard Surface, OpenPBR: one base colour) cannot hold: fitted too, it is what the format
-/// takes.
-fn base_colour_fit_needed(name: &str, fits: &[(String, Fit)], format: Format) -> Option<FitModel> {
-    let course = fits.iter().filter(|(_, f)| CourseMaterial::of(&f.brdf).is_ok());
-    let (_, best) = course.min_by(|a, b| a.1.residual.total_cmp(&b.1.residual))?;
+/// Whether the base colour model is to be fitted too: when the best fit of a model the formats hold is a
+/// Cook-Torrance with two colours that `format` (Standard Surface, OpenPBR: one base colour) cannot hold, and
+/// it was not fitted already.
+fn base_colour_fit_needed(name: &str, fits: &[(String, Fit)], format: Format) -> bool {
+    let Some((_, best)) = best_fit(fits, |f| CourseMaterial::of(&f.brdf).is_ok()) else { return false };
     let refused = matches!(best.brdf, Brdf::CookTorrance { .. }) && export(name, &best.brdf, format).is_err();
-    let fitted = fits.iter().any(|(model, _)| model == BASE_COLOUR_MODEL);
-    if refused && !fitted {
-        println!(
-            "{} has one base colour for both lobes: fitting {BASE_COLOUR_MODEL} too (Cook-Torrance with kd = f0)",
-            format.title()
-        );
-        return FitModel::named(BASE_COLOUR_MODEL);
-    }
-    None
+    refused && !fits.iter().any(|(model, _)| model == BASE_COLOUR_MODEL)
+}
+
+/// The fit of least residual among those `kept`.
+fn best_fit(fits: &[(String, Fit)], kept: impl Fn(&Fit) -> bool) -> Option<&(String, Fit)> {
+    fits.iter().filter(|(_, f)| kept(f)).min_by(|a, b| a.1.residual.total_cmp(&b.1.residual))
 }
 
 /// The models `--to` names (see [`FitArgs`]), each analytic one holding those of `held` it has.

@@ -58,16 +58,6 @@ impl Format {
         Format::ALL.into_iter().find(|f| f.name() == name)
     }
 
-    /// The file's usual extension, without its dot.
-    pub fn extension(self) -> &'static str {
-        match self {
-            Format::Gltf => "gltf",
-            Format::MaterialX | Format::OpenPbr => "mtlx",
-            Format::Mitsuba => "xml",
-            Format::Pbrt => "pbrt",
-        }
-    }
-
     /// The format as the messages and the files' headers name it.
     pub fn title(self) -> &'static str {
         match self {
@@ -209,7 +199,7 @@ const CONDUCTOR_MAX: f32 = 0.9999;
 
 /// The eta and k of Mitsuba's and pbrt's conductor for the specular lobe: Fresnel F0 at normal incidence,
 /// nearest Schlick's curve elsewhere.
-pub fn conductor(f0: Vec3) -> (Vec3, Vec3) {
+fn conductor(f0: Vec3) -> (Vec3, Vec3) {
     conductor::nearest_schlick(f0, CONDUCTOR_MAX)
 }
 

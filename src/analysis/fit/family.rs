@@ -3,10 +3,10 @@
 //!
 //! The course's models are linear in their colours: f = sum over k of c_k b_k, the b_k the model with unit
 //! colours, so only their one shape parameter is searched (and the metalness of Cook-Torrance with one base
-//! colour, [`BASE_COLOUR_MODEL`], where the colour multiplies both lobes but for the metal's S0). An analytic model (a `.brdf` file) is searched over
-//! every float parameter not held, within the file's range; its colours are solved linearly when the model
-//! is linear in them (found by evaluating it, [`linear_colours`]), and searched as three parameters each in
-//! [0, 1] otherwise; bools and held parameters keep their values.
+//! colour, [`BASE_COLOUR_MODEL`], where the colour multiplies both lobes but for the metal's S0). An analytic
+//! model (a `.brdf` file) is searched over every float parameter not held, within the file's range; its
+//! colours are solved linearly when the model is linear in them (found by evaluating it, [`linear_colours`]),
+//! and searched as three parameters each in [0, 1] otherwise; bools and held parameters keep their values.
 
 use glam::Vec3;
 

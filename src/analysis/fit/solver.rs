@@ -179,21 +179,12 @@ fn starts(family: &Family, bounds: &[Bound]) -> Vec<Vec<f64>> {
     };
     match family.start() {
         None => {
-            let first = (0..=SCAN).map(|i| within(0, i as f64 / SCAN as f64));
-            let seconds: Vec<f64> = match bounds.len() {
-                1 => Vec::new(),
-                _ => (0..=SCAN_SECOND).map(|j| within(1, j as f64 / SCAN_SECOND as f64)).collect(),
-            };
-            first
-                .flat_map(|a| {
-                    let pairs = seconds.iter().map(move |&b| vec![a, b]);
-                    if seconds.is_empty() {
-                        vec![vec![a]]
-                    } else {
-                        pairs.collect()
-                    }
-                })
-                .collect()
+            let points = |k: usize, steps: usize| (0..=steps).map(move |i| within(k, i as f64 / steps as f64));
+            let mut starts: Vec<Vec<f64>> = points(0, SCAN).map(|a| vec![a]).collect();
+            if bounds.len() > 1 {
+                starts = starts.iter().flat_map(|s| points(1, SCAN_SECOND).map(move |b| vec![s[0], b])).collect();
+            }
+            starts
         }
         Some(own) => {
             let count = (8 * bounds.len()).min(48);
