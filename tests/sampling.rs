@@ -335,3 +335,155 @@ fn the_command_passes_fails_and_refuses_as_documented() {
         assert!(!written.exists());
     }
 }
+
+/// `tests/sampling/burley_ggx.brdf` at `roughness`, base 0.25 and F0 0.3 (base 0.3 and F0 0.5 reflect more
+/// than they receive at 85°, Burley's retro-reflection, which the energy test says).
+fn burley_ggx(roughness: f32) -> Brdf {
+    let model = vk_render::brdf::AnalyticModel::load(&root().join("tests/sampling/burley_ggx.brdf")).unwrap();
+    let material = [("roughness", roughness), ("base", 0.25), ("f0", 0.3)]
+        .into_iter()
+        .try_fold(Analytic::defaults(model), |m, (name, value)| m.with(name, ParameterValue::Float(value)))
+        .unwrap();
+    Brdf::Analytic(material)
+}
+
+/// The density and f_r cos θi of `burley_ggx.brdf` seen head-on, at θi, per unit solid angle, in double
+/// precision: a mirror written for this test, the parameters as the GPU holds them (float32).
+fn burley_ggx_head_on(roughness: f32, theta_i: f64) -> (f64, f64) {
+    use std::f64::consts::PI;
+    let (r, base, f0, share) = (f64::from(roughness), f64::from(0.25f32), f64::from(0.3f32), 0.5);
+    let a2 = r.powi(4);
+    let ggx = |c: f64| a2 / (PI * (c * c * (a2 - 1.0) + 1.0).powi(2));
+    let g1 = |c: f64| 2.0 * c / (c + (a2 + (1.0 - a2) * c * c).sqrt());
+    // Seen head-on the half vector is θi / 2 from the normal, and from both directions.
+    let (n_l, n_h) = (theta_i.cos(), (theta_i / 2.0).cos());
+    let pdf = share * ggx(n_h) / 4.0 + (1.0 - share) * n_l / PI;
+    let fd90 = 0.5 + 2.0 * r * n_h * n_h;
+    let diffuse = base / PI * (1.0 + (fd90 - 1.0) * (1.0 - n_l).powi(5));
+    let fresnel = f0 + (1.0 - f0) * (1.0 - n_h).powi(5);
+    let specular = fresnel * ggx(n_h) * g1(n_l) * g1(1.0) / (4.0 * n_l);
+    (pdf, (diffuse + specular) * n_l)
+}
+
+/// The integral over the hemisphere of a function of θi alone, 2π ∫ g(θ) sin θ dθ: composite Simpson on
+/// panels that double in width from 1e-7 rad at the pole, where the lobe is, to π/2, 2000 intervals each.
+fn head_on_integral(g: impl Fn(f64) -> f64) -> f64 {
+    let mut edges = vec![0.0, 1e-7];
+    while *edges.last().unwrap() < std::f64::consts::FRAC_PI_2 {
+        let next = (edges.last().unwrap() * 2.0).min(std::f64::consts::FRAC_PI_2);
+        edges.push(next);
+    }
+    let mut total = 0.0;
+    for pair in edges.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let n = 2000;
+        let h = (b - a) / n as f64;
+        let f = |t: f64| g(t) * t.sin();
+        let mut sum = f(a) + f(b);
+        for k in 1..n {
+            sum += f(a + k as f64 * h) * if k % 2 == 1 { 4.0 } else { 2.0 };
+        }
+        total += sum * h / 3.0;
+    }
+    2.0 * std::f64::consts::PI * total
+}
+
+#[test]
+fn a_sharp_lobe_seen_head_on_is_integrated_within_its_stated_bound() {
+    // The file's float32 density at roughness 0.08 seen head-on integrates to 1.00037 (its D rounds a^2 - 1),
+    // which the command stated as 1.000374 ± 6.7e-5 and failed; the model's is 0.99998. The commands now
+    // integrate a .brdf file in double precision: every stated integral within its bound of an independent
+    // one, and the sampler, right, passes at every view.
+    let mut renderer = renderer();
+    let brdf = burley_ggx(0.08);
+    let options = SamplingOptions { views: views(&mut renderer, &brdf, &DEFAULT_THETA_O, None).unwrap(), ..options() };
+    let report = test_sampler(&mut renderer, &brdf, &options, || ()).unwrap();
+    assert!(report.passed(), "{:#?}", failures(&report));
+    let head_on = &report.views[0];
+    assert!(head_on.in_double && head_on.theta_o == 0.0);
+    let density = head_on_integral(|t| burley_ggx_head_on(0.08, t).0);
+    let albedo = head_on_integral(|t| burley_ggx_head_on(0.08, t).1);
+    let (integral, bound) = head_on.density_integral();
+    assert!((integral - density).abs() <= bound + 1e-9, "{integral} ± {bound} against {density}");
+    assert!(
+        (head_on.albedo()[0] - albedo).abs() <= head_on.cells.f_cos_error + 1e-9,
+        "{:?} against {albedo}",
+        head_on.albedo()
+    );
+    // `plot albedo`'s cubature, at 0 and 1° (where the float32 one stated 2.2e-4 and was 4.2e-4 off).
+    let stated = vk_render::analysis::albedo::directional_albedos(&mut renderer, &brdf, &[0.0], 1e-5).unwrap();
+    assert!((stated[0].rho[0] - albedo).abs() <= stated[0].error_bound + 1e-9, "{:?} against {albedo}", stated[0]);
+}
+
+#[test]
+fn the_double_precision_functions_are_rusts_and_a_broken_one_is_caught() {
+    // A .brdf file whose BRDF is GLSL's float-only functions of L's x and y, evaluated in double precision
+    // (shaders/common/float64.glsl) at directions with z = 1, against Rust's f64.
+    type Function = (&'static str, fn(f64, f64) -> f64);
+    let sets: [[Function; 3]; 5] = [
+        [
+            ("exp(30.0 * x)", |x, _| (30.0 * x).exp()),
+            ("log(1e-3 + abs(y) * 1e3)", |_, y| (1e-3 + y.abs() * 1e3).ln()),
+            ("pow(abs(x) + 0.01, 7.3 * y)", |x, y| (x.abs() + 0.01).powf(7.3 * y)),
+        ],
+        [
+            ("sin(50.0 * x)", |x, _| (50.0 * x).sin()),
+            ("cos(50.0 * y)", |_, y| (50.0 * y).cos()),
+            ("tan(1.5 * x)", |x, _| (1.5 * x).tan()),
+        ],
+        [("atan(10.0 * x)", |x, _| (10.0 * x).atan()), ("atan(y, x)", |x, y| y.atan2(x)), ("asin(y)", |_, y| y.asin())],
+        [
+            ("acos(x)", |x, _| x.acos()),
+            ("sinh(3.0 * y)", |_, y| (3.0 * y).sinh()),
+            ("tanh(2.0 * x)", |x, _| (2.0 * x).tanh()),
+        ],
+        [
+            ("exp2(10.0 * x)", |x, _| (10.0 * x).exp2()),
+            ("log2(abs(y) + 0.1)", |_, y| (y.abs() + 0.1).log2()),
+            ("atanh(0.9 * x) + asinh(y) + acosh(2.0 + x)", |x, y| (0.9 * x).atanh() + y.asinh() + (2.0 + x).acosh()),
+        ],
+    ];
+    let directions: Vec<glam::DVec3> = (0..41)
+        .flat_map(|i| {
+            (0..41).map(move |j| glam::DVec3::new(-1.0 + 0.05 * i as f64 + 1e-3, -1.0 + 0.05 * j as f64 + 2e-3, 1.0))
+        })
+        .collect();
+    let folder = temp_dir();
+    let worst_error = |renderer: &mut vk_render::Renderer, set: &[Function; 3], index: usize| -> f64 {
+        let path = folder.path().join(format!("functions{index}.brdf"));
+        let body = format!(
+            "analytic\n::begin parameters\nfloat unused 0 1 0\n::end parameters\n::begin shader\nvec3 BRDF(vec3 L, vec3 V, \
+             vec3 N, vec3 X, vec3 Y)\n{{\n    float x = L.x;\n    float y = L.y;\n    return vec3({}, {}, {});\n}}\n::end shader\n",
+            set[0].0, set[1].0, set[2].0
+        );
+        std::fs::write(&path, body).unwrap();
+        let brdf = Brdf::Analytic(Analytic::defaults(vk_render::brdf::AnalyticModel::load(&path).unwrap()));
+        let values = renderer.brdf_sampler_densities_double(&brdf, Vec3::Z, &directions).unwrap().expect("doubles");
+        let mut worst = 0.0f64;
+        for (d, v) in directions.iter().zip(&values) {
+            for (k, (_, f)) in set.iter().enumerate() {
+                let expected = f(d.x, d.y);
+                worst = worst.max((v[k + 1] - expected).abs() / expected.abs().max(1.0));
+            }
+        }
+        worst
+    };
+    let mut renderer = renderer();
+    for (index, set) in sets.iter().enumerate() {
+        let worst = worst_error(&mut renderer, set, index);
+        assert!(worst < 1e-14, "{:?}: {worst:e}", set.map(|f| f.0));
+    }
+    drop(renderer);
+    // exp's series without its r^8 term, sin's without its r^11: caught.
+    let source = ShaderSources::default();
+    let float64 = source.text("common/float64.glsl").unwrap();
+    for (broken, set) in [("    p = p * r + 1.0LF / 40320.0LF;\n", 0), ("    s = s * r2 - 1.0LF / 39916800.0LF;\n", 1)]
+    {
+        assert!(float64.contains(broken));
+        let mut mutant = common::renderer_with_shaders(
+            source.clone().with_file("common/float64.glsl", &float64.replace(broken, "")),
+        );
+        let worst = worst_error(&mut mutant, &sets[set], 10 + set);
+        assert!(worst > 1e-12, "{broken}: {worst:e}");
+    }
+}

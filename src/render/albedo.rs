@@ -1,7 +1,7 @@
 //! Directional albedos by the adaptive cubature of crates/cubature, its cells integrated by the albedo
 //! probe (`shaders/brdf_albedo.comp`, `brdf_eval` itself, on the device).
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 pub use cubature::{albedo_angles, Albedo, ALBEDO_TOLERANCE, MAX_REFINEMENTS};
 use cubature::{Cell, CellEstimate, Cubature};
@@ -37,11 +37,55 @@ pub fn directional_albedos(
     Ok(cubature.albedos())
 }
 
-/// The cells' integrals from the GPU, in batches of at most [`CELLS_PER_DISPATCH`].
+/// The cells' integrals from the GPU, in batches of at most [`CELLS_PER_DISPATCH`]: a `.brdf` file's in
+/// double precision where the device has doubles (its float32 GLSL may round away what a sharp lobe is made
+/// of: shaders/brdf_density64.comp), evaluated at the cells' nodes and summed here; any other model's by the
+/// albedo probe, whose cells are the renderer's own `brdf_eval`.
 fn integrate(renderer: &mut Renderer, jobs: &[AlbedoJob], cells: &[Cell]) -> Result<Vec<CellEstimate>> {
+    let in_double = match jobs.first() {
+        Some(job) => renderer.brdf_sampler_densities_double(&job.brdf, job.wo, &[])?.is_some(),
+        None => false,
+    };
     let mut estimates = Vec::with_capacity(cells.len());
+    if in_double {
+        for batch in cells.chunks(CELLS_PER_DISPATCH_IN_DOUBLE) {
+            match integrate_in_double(renderer, jobs, batch)? {
+                Some(batch) => estimates.extend(batch),
+                None => estimates.extend(renderer.probe_albedo_cells(jobs, batch)?),
+            }
+        }
+        return Ok(estimates);
+    }
     for batch in cells.chunks(CELLS_PER_DISPATCH) {
         estimates.extend(renderer.probe_albedo_cells(jobs, batch)?);
     }
     Ok(estimates)
+}
+
+/// The cells a batch in double precision takes: 225 directions each, of 32 bytes in and out.
+const CELLS_PER_DISPATCH_IN_DOUBLE: usize = 1 << 12;
+
+/// The cells' integrals from a `.brdf` file evaluated in double precision at their nodes, job by job.
+fn integrate_in_double(
+    renderer: &mut Renderer,
+    jobs: &[AlbedoJob],
+    cells: &[Cell],
+) -> Result<Option<Vec<CellEstimate>>> {
+    let mut estimates = vec![CellEstimate { kronrod: [0.0; 3], gauss: [0.0; 3] }; cells.len()];
+    for (index, job) in jobs.iter().enumerate() {
+        let mine: Vec<usize> = (0..cells.len()).filter(|&k| cells[k].job == index).collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let directions: Vec<DVec3> =
+            mine.iter().flat_map(|&k| cells[k].nodes()).map(|[x, y, z]| DVec3::new(x, y, z)).collect();
+        let Some(values) = renderer.brdf_sampler_densities_double(&job.brdf, job.wo, &directions)? else {
+            return Ok(None);
+        };
+        let f_cos: Vec<[f64; 3]> = values.iter().map(|v| [v[1], v[2], v[3]]).collect();
+        for (&k, f_cos) in mine.iter().zip(f_cos.chunks_exact(15 * 15)) {
+            estimates[k] = cells[k].estimate(f_cos);
+        }
+    }
+    Ok(Some(estimates))
 }

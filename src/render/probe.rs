@@ -91,6 +91,10 @@ pub struct ProbePass {
     eval: Shader,
     albedo: Shader,
     pub(super) sampler: Shader,
+    /// `brdf_density64.comp`, made when first used on a device with doubles.
+    pub(super) density64: Option<Shader>,
+    /// The analytic models whose double form did not compile (see [`brdf_file::wrap_double`]).
+    pub(super) without_double: std::collections::HashSet<AnalyticShader>,
     pub(super) device: Arc<Device>,
 }
 
@@ -106,6 +110,8 @@ pub(super) fn variant(brdf: &Brdf) -> Variant {
 /// built so far.
 pub(super) struct Shader {
     file: &'static str,
+    /// Whether an analytic model is compiled in double precision (its `glsl_double`).
+    pub(super) double: bool,
     /// The BRDF evaluations an item takes (a case one, a cell 15 x 15).
     evaluations: usize,
     module: ShaderModule,
@@ -116,7 +122,7 @@ pub(super) struct Shader {
 
 impl Shader {
     /// Compiles `file`, whose layout has `bindings` storage buffers and `push_constants` u32 of push constants.
-    fn new(
+    pub(super) fn new(
         device: &Arc<Device>,
         compiler: &ShaderCompiler,
         (file, evaluations): (&'static str, usize),
@@ -137,7 +143,7 @@ impl Shader {
             [vk::PushConstantRange { stage_flags: vk::ShaderStageFlags::COMPUTE, offset: 0, size: 4 * push_constants }];
         let layout = device.create_pipeline_layout(&[&bindings], &push, &format!("{file} layout"))?;
         let analytic_modules = HashMap::new();
-        Ok(Self { file, evaluations, module, analytic_modules, layout, pipelines: HashMap::new() })
+        Ok(Self { file, double: false, evaluations, module, analytic_modules, layout, pipelines: HashMap::new() })
     }
 
     /// The pipeline for `variant`, built on first use (an analytic model's shader compiled by `compiler`).
@@ -153,7 +159,8 @@ impl Shader {
                 None => &self.module,
                 Some(model) => {
                     if !self.analytic_modules.contains_key(model) {
-                        let spirv = compiler.compile_analytic(self.file, model.0.glsl())?;
+                        let glsl = if self.double { model.0.glsl_double() } else { model.0.glsl() };
+                        let spirv = compiler.compile_analytic(self.file, glsl)?;
                         let name = format!("{} of {}", self.file, model.0.name());
                         self.analytic_modules.insert(model.clone(), device.create_shader_module(&spirv, &name)?);
                     }
@@ -188,6 +195,8 @@ impl ProbePass {
             eval: Shader::new(device, compiler, ("brdf_probe.comp", 1), (6, 3))?,
             albedo: Shader::new(device, compiler, ("brdf_albedo.comp", 15 * 15), (6, 1))?,
             sampler: Shader::new(device, compiler, ("brdf_sample.comp", 1), (6, 4))?,
+            density64: None,
+            without_double: std::collections::HashSet::new(),
             device: device.clone(),
         })
     }

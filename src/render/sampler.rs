@@ -3,14 +3,15 @@
 //! f_r cos(theta_i) at given directions, read back as float32, in the frame n = +z, X = +x.
 
 use ash::vk;
-use glam::{Vec3, Vec4};
+use glam::{DVec3, Vec3, Vec4};
 
+use super::analytic::analytic_shader;
 use super::gpu_types::GpuMaterial;
 use super::probe::EVALUATIONS_PER_DISPATCH;
-use super::probe::{dispatch, per_buffer, push_constant, variant, GpuAlbedoJob, ProbeContext, ProbePass};
+use super::probe::{dispatch, per_buffer, push_constant, variant, GpuAlbedoJob, ProbeContext, ProbePass, Shader};
 use super::Renderer;
 use crate::brdf::Brdf;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::vulkan::Buffer;
 
 /// One draw of a material's sampler.
@@ -96,6 +97,50 @@ impl ProbePass {
         Ok(densities)
     }
 
+    /// The density of an analytic `brdf`'s sampler seen from `wo` (`material_pdf`'s: its pdfBRDF, else the
+    /// cosine's) and f_r cos(theta_i), at each of `directions`, in double precision (`brdf_density64.comp`):
+    /// `None` for any other model, on a device without doubles, or for a file with no double form.
+    fn sampler_densities_double(
+        &mut self,
+        (brdf, wo): (&Brdf, Vec3),
+        directions: &[DVec3],
+        context: ProbeContext,
+    ) -> Result<Option<Vec<[f64; 4]>>> {
+        let model = match analytic_shader(brdf) {
+            Some(model) if self.device.float64 && !self.without_double.contains(&model) => model,
+            _ => return Ok(None),
+        };
+        let job = self.sampler_job(brdf, wo, context)?;
+        let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<[f64; 4]>(&self.device));
+        if self.density64.is_none() {
+            let mut shader = Shader::new(&self.device, context.compiler, ("brdf_density64.comp", 1), (6, 1))?;
+            shader.double = true;
+            self.density64 = Some(shader);
+        }
+        let Some(shader) = self.density64.as_mut() else { return Ok(None) };
+        let pipeline = match shader.pipeline(&self.device, context.compiler, &variant(brdf)) {
+            Ok(pipeline) => pipeline,
+            Err(Error::Shader { log, .. }) => {
+                log::info!("{}: no double-precision evaluation ({log})", model.0.name());
+                self.without_double.insert(model);
+                return Ok(None);
+            }
+            Err(e) => return Err(e),
+        };
+        let mut values = Vec::with_capacity(directions.len());
+        for part in directions.chunks(per_dispatch) {
+            let padded: Vec<[f64; 4]> = part.iter().map(|d| [d.x, d.y, d.z, 0.0]).collect();
+            let input =
+                self.device.create_buffer_with_data(&padded, vk::BufferUsageFlags::STORAGE_BUFFER, "directions")?;
+            let bytes =
+                dispatch(&self.device, pipeline, &[&job, &input], context.data, 32, &[push_constant(part.len())?])?;
+            values.extend(bytes.chunks_exact(32).map(|v| {
+                std::array::from_fn(|k| f64::from_ne_bytes(v[8 * k..8 * k + 8].try_into().unwrap_or([0; 8])))
+            }));
+        }
+        Ok(Some(values))
+    }
+
     /// The job buffer of `brdf_sample.comp`: the material and wo.
     fn sampler_job(&self, brdf: &Brdf, wo: Vec3, context: ProbeContext) -> Result<Buffer> {
         let job = GpuAlbedoJob { material: GpuMaterial::new(brdf, context.data), wo: wo.extend(0.0).into() };
@@ -140,6 +185,24 @@ impl Renderer {
     ) -> Result<Vec<SamplerDensity>> {
         self.with_probe(std::iter::once(brdf), |probe, context| {
             probe.sampler_densities((brdf, wo), directions, context)
+        })
+    }
+
+    /// For a `.brdf` file: the density of its sampler seen from `wo` and f_r cos(theta_i) at each of
+    /// `directions` (frame n = +z, X = +x), as [`Renderer::brdf_sampler_densities`] but in double precision,
+    /// the file's GLSL compiled with doubles: (density, f_r cos θi's RGB). `None` for any other model, on a
+    /// device without doubles (`shaderFloat64`), or for a file whose GLSL has no double form.
+    ///
+    /// # Errors
+    /// As [`Renderer::probe_brdfs`].
+    pub fn brdf_sampler_densities_double(
+        &mut self,
+        brdf: &Brdf,
+        wo: Vec3,
+        directions: &[DVec3],
+    ) -> Result<Option<Vec<[f64; 4]>>> {
+        self.with_probe(std::iter::once(brdf), |probe, context| {
+            probe.sampler_densities_double((brdf, wo), directions, context)
         })
     }
 }

@@ -119,6 +119,8 @@ pub struct Device {
     /// VK_EXT_depth_range_unrestricted is enabled: depth may be cleared outside [0, 1], which the forward
     /// pass uses to mark the samples no object covers (render/resolve.rs).
     pub depth_range_unrestricted: bool,
+    /// The shaderFloat64 feature is enabled: shaders may compute in double (`shaders/brdf_density64.comp`).
+    pub float64: bool,
     /// How long a wait for submitted work may last, in nanoseconds ([`Device::set_timeout`]).
     timeout_ns: AtomicU64,
     /// Whether work was given up after it outlasted the timeout, or the device was lost: see
@@ -170,7 +172,13 @@ impl Device {
         let mut features13 =
             vk::PhysicalDeviceVulkan13Features::default().dynamic_rendering(true).synchronization2(true);
         // Fragment stores: an analytic model's report of invalid values (shaders/common/analytic.glsl).
-        let features = vk::PhysicalDeviceFeatures::default().image_cube_array(true).fragment_stores_and_atomics(true);
+        // Doubles where offered: a .brdf file's integrals in double precision (shaders/brdf_density64.comp).
+        // SAFETY: physical comes from this instance.
+        let float64 = unsafe { instance.raw.get_physical_device_features(physical) }.shader_float64 == vk::TRUE;
+        let features = vk::PhysicalDeviceFeatures::default()
+            .image_cube_array(true)
+            .fragment_stores_and_atomics(true)
+            .shader_float64(float64);
         // SAFETY: physical comes from this instance.
         let offered = unsafe { instance.raw.enumerate_device_extension_properties(physical)? };
         let unrestricted = ash::ext::depth_range_unrestricted::NAME;
@@ -232,6 +240,7 @@ impl Device {
             command_pool,
             instance,
             depth_range_unrestricted,
+            float64,
             timeout_ns: AtomicU64::new(DEFAULT_TIMEOUT.as_nanos() as u64),
             given_up: AtomicBool::new(false),
             lost: AtomicBool::new(false),

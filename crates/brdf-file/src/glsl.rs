@@ -412,15 +412,110 @@ pub fn wrap(
     sampler: &[(usize, String)],
     target: Target,
 ) -> Result<String, ParseError> {
+    wrap_in(parameters, shader, sampler, target, Precision::Single)
+}
+
+/// The same model with every float of the file's a double, for the renderer's `brdf_density64.comp`: the
+/// file's `float`, `vecN` and `matN` made `double`, `dvecN` and `dmatN`, its floating literals double ones
+/// (`0.1` would round to float first), and the functions GLSL has in float alone (`exp`, `pow`, `sin`, ...)
+/// those of `shaders/common/float64.glsl`; the wrapper's functions take and return doubles. A file whose
+/// GLSL does not compile so (one that reinterprets a float's bits) has no double evaluation.
+///
+/// # Errors
+/// As [`wrap`].
+pub fn wrap_double(
+    parameters: &[Parameter],
+    shader: &[(usize, String)],
+    sampler: &[(usize, String)],
+) -> Result<String, ParseError> {
+    wrap_in(parameters, shader, sampler, Target::Vulkan, Precision::Double)
+}
+
+/// The precision a model's GLSL is evaluated in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Precision {
+    Single,
+    Double,
+}
+
+impl Precision {
+    /// The scalar, 2- and 3-vector types.
+    fn types(self) -> (&'static str, &'static str, &'static str) {
+        match self {
+            Precision::Single => ("float", "vec2", "vec3"),
+            Precision::Double => ("double", "dvec2", "dvec3"),
+        }
+    }
+}
+
+/// GLSL's functions of float alone, which a double model calls as `f64_NAME` (shaders/common/float64.glsl).
+const FLOAT_ONLY_FUNCTIONS: [&str; 19] = [
+    "exp", "log", "pow", "exp2", "log2", "sin", "cos", "tan", "atan", "asin", "acos", "sinh", "cosh", "tanh", "asinh",
+    "acosh", "atanh", "radians", "degrees",
+];
+
+/// `text` (a file's renamed GLSL) with its floats made doubles (see [`wrap_double`]).
+fn in_double(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + text.len() / 4);
+    for token in tokens(text) {
+        match token {
+            Token::Identifier(name) => match name {
+                "float" => out.push_str("double"),
+                "vec2" | "vec3" | "vec4" | "mat2" | "mat3" | "mat4" => {
+                    out.push('d');
+                    out.push_str(name);
+                }
+                _ if name.starts_with("mat") && name[3..].chars().all(|c| c.is_ascii_digit() || c == 'x') => {
+                    out.push('d');
+                    out.push_str(name);
+                }
+                _ if FLOAT_ONLY_FUNCTIONS.contains(&name) => {
+                    out.push_str("f64_");
+                    out.push_str(name);
+                }
+                _ => out.push_str(name),
+            },
+            Token::Other(number) if is_floating_literal(number) => {
+                out.push_str(number.trim_end_matches(['f', 'F']));
+                out.push_str("LF");
+            }
+            other => out.push_str(other.text()),
+        }
+    }
+    out
+}
+
+/// Whether a token is a floating-point literal: digits with a point or an exponent, or a float suffix (not a
+/// hexadecimal integer, whose digits may be e or f).
+fn is_floating_literal(token: &str) -> bool {
+    let starts_as_number = token.starts_with(|c: char| c.is_ascii_digit())
+        || (token.starts_with('.') && token[1..].starts_with(|c: char| c.is_ascii_digit()));
+    let hexadecimal = token.starts_with("0x") || token.starts_with("0X");
+    let suffixed_double = token.ends_with("lf") || token.ends_with("LF");
+    starts_as_number
+        && !hexadecimal
+        && !suffixed_double
+        && (token.contains(['.', 'e', 'E']) || token.ends_with(['f', 'F']))
+}
+
+fn wrap_in(
+    parameters: &[Parameter],
+    shader: &[(usize, String)],
+    sampler: &[(usize, String)],
+    target: Target,
+    precision: Precision,
+) -> Result<String, ParseError> {
+    let (float, vec2, vec3) = precision.types();
     let sections = || shader.iter().chain(sampler);
     let text: String = sections().map(|(_, line)| line.as_str()).collect::<Vec<_>>().join("\n");
     let lines: Vec<usize> = sections().map(|(number, _)| *number).collect();
     let all = tokens(&text);
     let required: &[&Signature] = if sampler.is_empty() { &[&BRDF] } else { &[&BRDF, &SAMPLE, &PDF] };
     let declarations = declarations(&significant(&all), &lines, required)?;
-    let renamed = match target {
-        Target::Vulkan => renamed(&text, &declarations),
-        Target::WebGl => guarded(&renamed(&text, &declarations)),
+    let renamed = match (target, precision) {
+        (Target::Vulkan, Precision::Single) => renamed(&text, &declarations),
+        (Target::Vulkan, Precision::Double) => in_double(&renamed(&text, &declarations)),
+        (Target::WebGl, _) => guarded(&renamed(&text, &declarations)),
     };
     let mut glsl = String::from(
         "// The analytic BRDF of one .brdf file, made by vk-render (crates/brdf-file/src/glsl.rs): its parameters, then \
@@ -434,9 +529,9 @@ pub fn wrap(
     }
     for parameter in parameters {
         let kind = match parameter.kind {
-            ParameterKind::Float { .. } => "float",
+            ParameterKind::Float { .. } => float,
             ParameterKind::Bool { .. } => "bool",
-            ParameterKind::Color { .. } => "vec3",
+            ParameterKind::Color { .. } => vec3,
         };
         glsl.push_str(&format!("{kind} {PREFIX}{};\n", parameter.name));
     }
@@ -465,14 +560,15 @@ pub fn wrap(
             ParameterKind::Float { .. } => glsl.push_str(&format!("    {PREFIX}{name} = {};\n", value(0))),
             ParameterKind::Bool { .. } => glsl.push_str(&format!("    {PREFIX}{name} = {} != 0.0;\n", value(0))),
             ParameterKind::Color { .. } => {
-                glsl.push_str(&format!("    {PREFIX}{name} = vec3({}, {}, {});\n", value(0), value(1), value(2)));
+                glsl.push_str(&format!("    {PREFIX}{name} = {vec3}({}, {}, {});\n", value(0), value(1), value(2)));
             }
         }
         offset += parameter.kind.floats();
     }
-    glsl.push_str(
-        "}\nvec3 analytic_brdf(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {\n    analytic_set_parameters(first);\n",
-    );
+    glsl.push_str(&format!(
+        "}}\n{vec3} analytic_brdf(uint first, {vec3} n, {vec3} t, {vec3} wi, {vec3} wo) {{\n    \
+         analytic_set_parameters(first);\n"
+    ));
     match target {
         Target::Vulkan => glsl.push_str(&format!("    return {PREFIX}BRDF(wi, wo, n, t, cross(n, t));\n}}\n")),
         // A model stopped by its loops' guard gives 0 (and the page says so: analytic_stopped).
@@ -483,9 +579,9 @@ pub fn wrap(
     }
     if !sampler.is_empty() {
         glsl.push_str(&format!(
-            "#define ANALYTIC_HAS_SAMPLER\nvec3 analytic_sample(uint first, vec3 n, vec3 t, vec3 wo, vec2 u) {{\n    \
-             analytic_set_parameters(first);\n    return {PREFIX}sampleBRDF(wo, n, t, cross(n, t), u);\n}}\n\
-             float analytic_pdf(uint first, vec3 n, vec3 t, vec3 wi, vec3 wo) {{\n    \
+            "#define ANALYTIC_HAS_SAMPLER\n{vec3} analytic_sample(uint first, {vec3} n, {vec3} t, {vec3} wo, {vec2} u) \
+             {{\n    analytic_set_parameters(first);\n    return {PREFIX}sampleBRDF(wo, n, t, cross(n, t), u);\n}}\n\
+             {float} analytic_pdf(uint first, {vec3} n, {vec3} t, {vec3} wi, {vec3} wo) {{\n    \
              analytic_set_parameters(first);\n    return {PREFIX}pdfBRDF(wi, wo, n, t, cross(n, t));\n}}\n"
         ));
     }
@@ -713,5 +809,19 @@ mod tests {
         assert!(webgl.contains("return analytic_stopped ? vec3(0.0) : f;"), "{webgl}");
         let vulkan = wrap(&[], &shader, &[], Target::Vulkan).unwrap();
         assert!(vulkan.contains("while (true) {}") && !vulkan.contains("analytic_guard"), "{vulkan}");
+    }
+
+    #[test]
+    fn a_double_model_has_double_types_literals_and_functions() {
+        let glsl = in_double(
+            "const float usr_PI = 3.14159265358979323846;\nvec3 usr_f(vec2 u, mat3 m, mat2x3 n) {\n    float a = \
+             pow(u.x, 5.0) + exp(-1e-3) + 2.5f + .5 + 1.0E+2 + 0x1F + 3u + 7;\n    return vec3(sin(a), u.y, float(2));\n}",
+        );
+        assert_eq!(
+            glsl,
+            "const double usr_PI = 3.14159265358979323846LF;\ndvec3 usr_f(dvec2 u, dmat3 m, dmat2x3 n) {\n    double a \
+             = f64_pow(u.x, 5.0LF) + f64_exp(-1e-3LF) + 2.5LF + .5LF + 1.0E+2LF + 0x1F + 3u + 7;\n    return \
+             dvec3(f64_sin(a), u.y, double(2));\n}"
+        );
     }
 }

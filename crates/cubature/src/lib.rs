@@ -70,6 +70,102 @@ impl Cell {
     }
 }
 
+/// The 15 Kronrod nodes on [-1, 1], their weights, and the weights of the 7-point Gauss rule on the same nodes
+/// (zero where a Kronrod node is not a Gauss node): those of `shaders/common/albedo_cell.glsl`.
+const NODES: [f64; 15] = [
+    -0.991455371120812639,
+    -0.949107912342758525,
+    -0.864864423359769073,
+    -0.741531185599394440,
+    -0.586087235467691130,
+    -0.405845151377397167,
+    -0.207784955007898468,
+    0.0,
+    0.207784955007898468,
+    0.405845151377397167,
+    0.586087235467691130,
+    0.741531185599394440,
+    0.864864423359769073,
+    0.949107912342758525,
+    0.991455371120812639,
+];
+const KRONROD: [f64; 15] = [
+    0.022935322010529225,
+    0.063092092629978553,
+    0.104790010322250184,
+    0.140653259715525919,
+    0.169004726639267903,
+    0.190350578064785410,
+    0.204432940075298892,
+    0.209482141084727828,
+    0.204432940075298892,
+    0.190350578064785410,
+    0.169004726639267903,
+    0.140653259715525919,
+    0.104790010322250184,
+    0.063092092629978553,
+    0.022935322010529225,
+];
+const GAUSS: [f64; 15] = [
+    0.0,
+    0.129484966168869693,
+    0.0,
+    0.279705391489276668,
+    0.0,
+    0.381830050505118945,
+    0.0,
+    0.417959183673469388,
+    0.0,
+    0.381830050505118945,
+    0.0,
+    0.279705391489276668,
+    0.0,
+    0.129484966168869693,
+    0.0,
+];
+
+// A cell's rule from the model's values at its nodes, for a probe that evaluates the model at points rather
+// than over cells (a .brdf file in double precision), the sums made here.
+impl Cell {
+    /// The 225 directions wi (x, y, z) of the cell's 15 x 15-point rule, theta_i's slowest, in the frame of
+    /// `shaders/common/albedo_cell.glsl` (n = +z, wo in the xz-plane).
+    pub fn nodes(&self) -> Vec<[f64; 3]> {
+        let (theta_mid, theta_half) = (0.5 * (self.theta.0 + self.theta.1), 0.5 * (self.theta.1 - self.theta.0));
+        let (phi_mid, phi_half) = (0.5 * (self.phi.0 + self.phi.1), 0.5 * (self.phi.1 - self.phi.0));
+        NODES
+            .iter()
+            .flat_map(|a| {
+                let (sin_theta, cos_theta) = (theta_mid + theta_half * a).sin_cos();
+                NODES.iter().map(move |b| {
+                    let (sin_phi, cos_phi) = (phi_mid + phi_half * b).sin_cos();
+                    [sin_theta * cos_phi, sin_theta * sin_phi, cos_theta]
+                })
+            })
+            .collect()
+    }
+
+    /// The cell's two estimates from f_r cos(theta_i) at each of [`Cell::nodes`], in double precision
+    /// (returned as a probe's, in single).
+    pub fn estimate(&self, f_cos: &[[f64; 3]]) -> CellEstimate {
+        let (theta_mid, theta_half) = (0.5 * (self.theta.0 + self.theta.1), 0.5 * (self.theta.1 - self.theta.0));
+        let phi_half = 0.5 * (self.phi.1 - self.phi.0);
+        let mut kronrod = [0.0; 3];
+        let mut gauss = [0.0; 3];
+        for (a, ring) in f_cos.chunks_exact(15).enumerate() {
+            // The solid angle's sin(theta).
+            let sin_theta = (theta_mid + theta_half * NODES[a]).sin();
+            for (b, f) in ring.iter().enumerate() {
+                for c in 0..3 {
+                    kronrod[c] += KRONROD[a] * KRONROD[b] * sin_theta * f[c];
+                    gauss[c] += GAUSS[a] * GAUSS[b] * sin_theta * f[c];
+                }
+            }
+        }
+        let scale = theta_half * phi_half;
+        CellEstimate { kronrod: kronrod.map(|v| (scale * v) as f32), gauss: gauss.map(|v| (scale * v) as f32) }
+    }
+}
+
 /// What a probe returns for a cell (f_r cos(theta_i) over its half of the hemisphere, in the probe's single
 /// precision): the 15-point Gauss-Kronrod estimate and the embedded 7-point Gauss one, RGB.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -36,6 +36,8 @@ pub struct AnalyticModel {
     source: String,
     /// `brdf/analytic.glsl` of this model (see [`brdf_file::wrap`]).
     glsl: String,
+    /// The same in double precision (see [`brdf_file::wrap_double`]).
+    glsl_double: String,
     /// A hash of `glsl`: what compiled shaders and pipelines are kept by.
     key: u64,
     /// Whether the file has an importance sampler (its isFunc section).
@@ -80,6 +82,7 @@ impl AnalyticModel {
         };
         let file = brdf_file::parse(&source).map_err(at)?;
         let glsl = brdf_file::wrap(&file.parameters, &file.shader, &file.sampler, Target::Vulkan).map_err(at)?;
+        let glsl_double = brdf_file::wrap_double(&file.parameters, &file.shader, &file.sampler).map_err(at)?;
         compile_alone(&glsl).map_err(at)?;
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         glsl.hash(&mut hasher);
@@ -91,6 +94,7 @@ impl AnalyticModel {
             warnings,
             source,
             glsl,
+            glsl_double,
             key: hasher.finish(),
             has_sampler,
         })
@@ -99,6 +103,12 @@ impl AnalyticModel {
     /// `brdf/analytic.glsl` for the shaders that evaluate this model.
     pub fn glsl(&self) -> &str {
         &self.glsl
+    }
+
+    /// `brdf/analytic.glsl` for `brdf_density64.comp`, which evaluates this model in double precision (it may
+    /// not compile: a file that reads a float's bits has no double form).
+    pub fn glsl_double(&self) -> &str {
+        &self.glsl_double
     }
 
     /// What compiled shaders and pipelines of this model are kept by: two models with the same key compile
