@@ -35,20 +35,11 @@ double f64_exp(double x) {
     // x = k ln 2 + r, |r| <= ln 2 / 2; e^r by its Taylor series to r^13 (r^14 / 14! < 4e-18).
     double k = round(x / F64_LN2);
     double r = (x - k * F64_LN2_HI) - k * F64_LN2_LO;
-    double p = 1.0LF / 6227020800.0LF;
-    p = p * r + 1.0LF / 479001600.0LF;
-    p = p * r + 1.0LF / 39916800.0LF;
-    p = p * r + 1.0LF / 3628800.0LF;
-    p = p * r + 1.0LF / 362880.0LF;
-    p = p * r + 1.0LF / 40320.0LF;
-    p = p * r + 1.0LF / 5040.0LF;
-    p = p * r + 1.0LF / 720.0LF;
-    p = p * r + 1.0LF / 120.0LF;
-    p = p * r + 1.0LF / 24.0LF;
-    p = p * r + 1.0LF / 6.0LF;
-    p = p * r + 0.5LF;
-    p = p * r + 1.0LF;
-    p = p * r + 1.0LF;
+    // Nested as 1 + r (1 + r/2 (1 + r/3 (... (1 + r/13)))).
+    double p = 1.0LF;
+    for (int n = 13; n >= 1; --n) {
+        p = 1.0LF + r * p / double(n);
+    }
     // 2^k in two steps: ldexp of an exponent past the double's range is undefined in one.
     int half_k = int(k) / 2;
     return ldexp(ldexp(p, half_k), int(k) - half_k);
@@ -95,31 +86,25 @@ double f64_pow(double x, double y) {
 double f64_exp2(double x) { return f64_exp(x * F64_LN2); }
 double f64_log2(double x) { return f64_log(x) / F64_LN2; }
 
-// sin r and cos r for |r| <= pi/4, by their Taylor series to r^19 and r^20 (the next terms below 1e-19).
+// sinh's series over x, 1 + z/(2 3) (1 + z/(4 5) (... (1 + z/(2n (2n + 1))))) at z = x^2, to x^(2n); sin's
+// over x at z = -x^2.
+double f64_odd_series(double z, int n) {
+    double p = 1.0LF;
+    for (int k = n; k >= 1; --k) {
+        p = 1.0LF + z * p / double((2 * k) * (2 * k + 1));
+    }
+    return p;
+}
+
+// sin r and cos r for |r| <= pi/4, by their Taylor series to r^19 and r^20 (the next terms below 1e-19), cos's
+// nested as 1 - r^2/(1 2) (1 - r^2/(3 4) (...)).
 dvec2 f64_sin_cos_reduced(double r) {
     double r2 = r * r;
-    double s = -1.0LF / 121645100408832000.0LF;
-    s = s * r2 + 1.0LF / 355687428096000.0LF;
-    s = s * r2 - 1.0LF / 1307674368000.0LF;
-    s = s * r2 + 1.0LF / 6227020800.0LF;
-    s = s * r2 - 1.0LF / 39916800.0LF;
-    s = s * r2 + 1.0LF / 362880.0LF;
-    s = s * r2 - 1.0LF / 5040.0LF;
-    s = s * r2 + 1.0LF / 120.0LF;
-    s = s * r2 - 1.0LF / 6.0LF;
-    s = s * r2 * r + r;
-    double c = 1.0LF / 2432902008176640000.0LF;
-    c = c * r2 - 1.0LF / 6402373705728000.0LF;
-    c = c * r2 + 1.0LF / 20922789888000.0LF;
-    c = c * r2 - 1.0LF / 87178291200.0LF;
-    c = c * r2 + 1.0LF / 479001600.0LF;
-    c = c * r2 - 1.0LF / 3628800.0LF;
-    c = c * r2 + 1.0LF / 40320.0LF;
-    c = c * r2 - 1.0LF / 720.0LF;
-    c = c * r2 + 1.0LF / 24.0LF;
-    c = c * r2 - 0.5LF;
-    c = c * r2 + 1.0LF;
-    return dvec2(s, c);
+    double c = 1.0LF;
+    for (int k = 10; k >= 1; --k) {
+        c = 1.0LF - r2 * c / double((2 * k - 1) * (2 * k));
+    }
+    return dvec2(r * f64_odd_series(-r2, 9), c);
 }
 
 // (sin x, cos x): x = k pi/2 + r, |r| <= pi/4, exact for |x| < 2^19.
@@ -203,16 +188,7 @@ double f64_acos(double x) { return f64_atan(sqrt((1.0LF - x) * (1.0LF + x)), x);
 double f64_sinh(double x) {
     if (abs(x) < 0.5LF) {
         // The series to x^17: e^x - e^-x cancels here.
-        double x2 = x * x;
-        double p = 1.0LF / 355687428096000.0LF;
-        p = p * x2 + 1.0LF / 1307674368000.0LF;
-        p = p * x2 + 1.0LF / 6227020800.0LF;
-        p = p * x2 + 1.0LF / 39916800.0LF;
-        p = p * x2 + 1.0LF / 362880.0LF;
-        p = p * x2 + 1.0LF / 5040.0LF;
-        p = p * x2 + 1.0LF / 120.0LF;
-        p = p * x2 + 1.0LF / 6.0LF;
-        return x + x * x2 * p;
+        return x * f64_odd_series(x * x, 8);
     }
     double e = f64_exp(abs(x));
     double s = 0.5LF * (e - 1.0LF / e);

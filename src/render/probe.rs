@@ -111,7 +111,7 @@ pub(super) fn variant(brdf: &Brdf) -> Variant {
 pub(super) struct Shader {
     file: &'static str,
     /// Whether an analytic model is compiled in double precision (its `glsl_double`).
-    pub(super) double: bool,
+    double: bool,
     /// The BRDF evaluations an item takes (a case one, a cell 15 x 15).
     evaluations: usize,
     module: ShaderModule,
@@ -144,6 +144,11 @@ impl Shader {
         let layout = device.create_pipeline_layout(&[&bindings], &push, &format!("{file} layout"))?;
         let analytic_modules = HashMap::new();
         Ok(Self { file, double: false, evaluations, module, analytic_modules, layout, pipelines: HashMap::new() })
+    }
+
+    /// The same shader, its analytic models compiled in double precision (for `brdf_density64.comp`).
+    pub(super) fn with_double_models(self) -> Self {
+        Self { double: true, ..self }
     }
 
     /// The pipeline for `variant`, built on first use (an analytic model's shader compiled by `compiler`).

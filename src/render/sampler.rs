@@ -113,9 +113,8 @@ impl ProbePass {
         let job = self.sampler_job(brdf, wo, context)?;
         let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<[f64; 4]>(&self.device));
         if self.density64.is_none() {
-            let mut shader = Shader::new(&self.device, context.compiler, ("brdf_density64.comp", 1), (6, 1))?;
-            shader.double = true;
-            self.density64 = Some(shader);
+            let shader = Shader::new(&self.device, context.compiler, ("brdf_density64.comp", 1), (6, 1))?;
+            self.density64 = Some(shader.with_double_models());
         }
         let Some(shader) = self.density64.as_mut() else { return Ok(None) };
         let pipeline = match shader.pipeline(&self.device, context.compiler, &variant(brdf)) {
@@ -134,9 +133,7 @@ impl ProbePass {
                 self.device.create_buffer_with_data(&padded, vk::BufferUsageFlags::STORAGE_BUFFER, "directions")?;
             let bytes =
                 dispatch(&self.device, pipeline, &[&job, &input], context.data, 32, &[push_constant(part.len())?])?;
-            values.extend(bytes.chunks_exact(32).map(|v| {
-                std::array::from_fn(|k| f64::from_ne_bytes(v[8 * k..8 * k + 8].try_into().unwrap_or([0; 8])))
-            }));
+            values.extend(doubles(&bytes).chunks_exact(4).map(|v| [v[0], v[1], v[2], v[3]]));
         }
         Ok(Some(values))
     }
@@ -151,6 +148,11 @@ impl ProbePass {
 /// The f32 of a result buffer's bytes.
 fn floats(bytes: &[u8]) -> Vec<f32> {
     bytes.chunks_exact(4).map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]])).collect()
+}
+
+/// The f64 of a result buffer's bytes.
+fn doubles(bytes: &[u8]) -> Vec<f64> {
+    bytes.chunks_exact(8).map(|b| f64::from_ne_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]])).collect()
 }
 
 impl Renderer {

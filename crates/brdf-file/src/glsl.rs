@@ -457,15 +457,18 @@ const FLOAT_ONLY_FUNCTIONS: [&str; 19] = [
 /// `text` (a file's renamed GLSL) with its floats made doubles (see [`wrap_double`]).
 fn in_double(text: &str) -> String {
     let mut out = String::with_capacity(text.len() + text.len() / 4);
+    let mut previous = Token::Space("");
     for token in tokens(text) {
+        // A struct's member keeps its name, as in `renamed`.
+        let member = previous == Token::Other(".");
+        if token.is_significant() {
+            previous = token;
+        }
         match token {
+            Token::Identifier(name) if member => out.push_str(name),
             Token::Identifier(name) => match name {
                 "float" => out.push_str("double"),
-                "vec2" | "vec3" | "vec4" | "mat2" | "mat3" | "mat4" => {
-                    out.push('d');
-                    out.push_str(name);
-                }
-                _ if name.starts_with("mat") && name[3..].chars().all(|c| c.is_ascii_digit() || c == 'x') => {
+                _ if is_float_vector_or_matrix(name) => {
                     out.push('d');
                     out.push_str(name);
                 }
@@ -483,6 +486,16 @@ fn in_double(text: &str) -> String {
         }
     }
     out
+}
+
+/// Whether `name` is a float vector or matrix type: vec2 to vec4, mat2 to mat4, matCxR.
+fn is_float_vector_or_matrix(name: &str) -> bool {
+    let size = |text: &str| matches!(text, "2" | "3" | "4");
+    match (name.strip_prefix("vec"), name.strip_prefix("mat")) {
+        (Some(n), _) => size(n),
+        (_, Some(shape)) => shape.split_once('x').map_or(size(shape), |(c, r)| size(c) && size(r)),
+        _ => false,
+    }
 }
 
 /// Whether a token is a floating-point literal: digits with a point or an exponent, or a float suffix (not a
@@ -815,13 +828,14 @@ mod tests {
     fn a_double_model_has_double_types_literals_and_functions() {
         let glsl = in_double(
             "const float usr_PI = 3.14159265358979323846;\nvec3 usr_f(vec2 u, mat3 m, mat2x3 n) {\n    float a = \
-             pow(u.x, 5.0) + exp(-1e-3) + 2.5f + .5 + 1.0E+2 + 0x1F + 3u + 7;\n    return vec3(sin(a), u.y, float(2));\n}",
+             pow(u.x, 5.0) + exp(-1e-3) + 2.5f + .5 + 1.0E+2 + 0x1F + 3u + 7 + s.exp + s.mat;\n    return vec3(sin(a), u.y, \
+             float(2));\n}",
         );
         assert_eq!(
             glsl,
             "const double usr_PI = 3.14159265358979323846LF;\ndvec3 usr_f(dvec2 u, dmat3 m, dmat2x3 n) {\n    double a \
-             = f64_pow(u.x, 5.0LF) + f64_exp(-1e-3LF) + 2.5LF + .5LF + 1.0E+2LF + 0x1F + 3u + 7;\n    return \
-             dvec3(f64_sin(a), u.y, double(2));\n}"
+             = f64_pow(u.x, 5.0LF) + f64_exp(-1e-3LF) + 2.5LF + .5LF + 1.0E+2LF + 0x1F + 3u + 7 + s.exp + s.mat;\n    \
+             return dvec3(f64_sin(a), u.y, double(2));\n}"
         );
     }
 }

@@ -388,8 +388,8 @@ pub fn normal_quantile(level: f64) -> f64 {
 /// samples' weights always, the integrals where they were not taken in double precision.
 const FLOAT_ERROR: f64 = 1e-4;
 
-/// The same where the integrals were taken in double precision: the rounding of their sums over the pieces
-/// (a density of exactly 1, Lafortune's lobe about the normal, summed to 1 + 7e-16 over a bound of 7.2e-16).
+/// The same where the integrals were taken in double precision: the rounding of their sums over the pieces and
+/// cells, which the cubature's bound does not count (a density of exactly 1 sums to a few ulps above it).
 const DOUBLE_ERROR: f64 = 1e-12;
 
 /// A view's verdicts: χ², the density's integral and support, the samples, the estimator, energy.
