@@ -14,7 +14,7 @@ CARGO ?= cargo
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test test-python wheel test-current bench bench-sampling bench-fit bench-serve bench-peer bench-python bless clean
+.PHONY: all setup setup-test build render test test-long test-python wheel test-current bench bench-sampling bench-fit bench-serve bench-peer bench-python bless clean
 
 all: render
 
@@ -49,6 +49,12 @@ test: setup-test
 	$(CARGO) bench --locked --no-run
 	$(CARGO) check --release --locked --no-default-features
 	CARGO="$(CARGO)" VK_RENDER_TEST_PYTHON=1 VK_RENDER_WHEEL="$(VK_RENDER_WHEEL)" scripts/run-tests.sh --release --locked
+
+## test-long: the long tests, which CI runs after `make test` (scripts/run-tests.sh --long: the tests marked
+## #[ignore = "long: ..."]): the samplers' chi-square over each model's whole range at every view, every
+## catalogue scene drawn in the browser against `vk-render render`
+test-long: setup-test
+	CARGO="$(CARGO)" scripts/run-tests.sh --long --release --locked
 
 ## test-python: the Python package's tests: its wheel (make wheel, or the one VK_RENDER_WHEEL names) installed
 ## into a venv made once (scripts/python-env.sh: target/python-venv, with pytest, Dask and matplotlib pinned),

@@ -13,7 +13,12 @@
 # arguments), so `cargo test` gives the same results, one binary at a time. pytest, which runs its tests one
 # after another, took 59 s after the binaries' 435 s; beside them it fills what they leave of the cores.
 #
-# Usage: scripts/run-tests.sh [CARGO-ARGS...]     (e.g. --release --locked)
+# With --long first, the long tests instead (`make test-long`): those marked #[ignore = "long: ..."], the
+# statistical runs over whole ranges (the samplers' chi-square at 10^6 samples from sharp to rough, every
+# catalogue scene in the browser), run as the others are, each binary with `--ignored`; no Python, no doc
+# tests.
+#
+# Usage: scripts/run-tests.sh [--long] [CARGO-ARGS...]     (e.g. --release --locked)
 # Environment: CARGO (default cargo), VK_RENDER_TEST_JOBS (binaries at once; default: the cores),
 # VK_RENDER_TEST_TIMEOUT (seconds a binary may take; default 1200), VK_RENDER_TEST_PYTHON (1: the Python
 # tests too; VK_RENDER_WHEEL as scripts/python-env.sh).
@@ -22,6 +27,11 @@ set -euo pipefail
 project=$(cd "$(dirname "$0")/.." && pwd)
 cd "$project"
 cargo=${CARGO:-cargo}
+long_run=0
+if [ "${1:-}" = --long ]; then
+    long_run=1
+    shift
+fi
 jobs=${VK_RENDER_TEST_JOBS:-$(nproc)}
 limit=${VK_RENDER_TEST_TIMEOUT:-1200}
 
@@ -43,12 +53,23 @@ packages=(-p vk-render -p vk-render-brdf-file -p vk-render-check-rules -p vk-ren
 mapfile -t built < <(grep '"profile":{[^}]*"test":true' "$logs/build.json" |
     sed -n 's|.*"src_path":"\([^"]*\)".*"executable":"\([^"]*\)".*|\1\t\2|p' | sed "s|^$project/||")
 [ ${#built[@]} -gt 0 ] || { echo "cargo built no test binary" >&2; exit 1; }
-if [ "${VK_RENDER_TEST_PYTHON:-0}" = 1 ]; then
+if [ "$long_run" = 0 ] && [ "${VK_RENDER_TEST_PYTHON:-0}" = 1 ]; then
     VK_RENDER_PYTHON=$(scripts/python-env.sh)
     export VK_RENDER_PYTHON
     # pytest, its tests that run alone left for the end (below).
     export PYTEST_ADDOPTS="-m 'not alone'"
     built+=("python/tests"$'\t'"$project/scripts/test-python.sh")
+fi
+
+# The long run: only the binaries that have long tests.
+if [ "$long_run" = 1 ]; then
+    with_long=()
+    for entry in "${built[@]}"; do
+        if "${entry#*$'\t'}" --list --ignored 2>/dev/null | grep -q ': test$'; then
+            with_long+=("$entry")
+        fi
+    done
+    built=("${with_long[@]}")
 fi
 
 # The longest first, then the rest in cargo's order.
@@ -71,10 +92,14 @@ done
 # Its time is the wall-clock time and the CPU time (user and system) of the binary and the children it
 # waited for (the vk-render processes its tests start), as bash's `time` reports them.
 run_one() {
-    local source=${1%%$'\t'*} exe=${1#*$'\t'} logs=$2 limit=$3 log status=0 took TIMEFORMAT='%R %U %S' skip=()
+    local source=${1%%$'\t'*} exe=${1#*$'\t'} logs=$2 limit=$3 log status=0 took TIMEFORMAT='%R %U %S' selection=()
     log="$logs/$(basename "$exe").log"
-    [ "$source" = python/tests ] || skip=(--skip "$ALONE")
-    { time timeout --kill-after=10 "$limit" "$exe" "${skip[@]}" >"$log" 2>&1; } 2>"$log.time" || status=$?
+    if [ "$LONG" = 1 ]; then
+        selection=(--ignored)
+    elif [ "$source" != python/tests ]; then
+        selection=(--skip "$ALONE")
+    fi
+    { time timeout --kill-after=10 "$limit" "$exe" "${selection[@]}" >"$log" 2>&1; } 2>"$log.time" || status=$?
     took=$(awk '{ printf "%.0f s, %.0f s of CPU", $1, $2 + $3 }' "$log.time")
     if [ "$status" -eq 0 ]; then
         echo "== $source: $(grep -E '^test result:|^[0-9]+ passed' "$log" | tail -n 1) ($took)"
@@ -88,6 +113,7 @@ run_one() {
 export -f run_one
 # The Rust test whose shader never ends (tests/analytic_cli.rs), skipped beside the others and run at the end.
 export ALONE=a_brdf_that_never_ends_is_given_up_at_the_timeout_naming_its_file
+export LONG=$long_run
 
 started=$(date +%s)
 printf '%s\0' "${ordered[@]}" | xargs -0 -n 1 -P "$jobs" bash -c 'run_one "$3" "$1" "$2"' run_one "$logs" "$limit" ||
@@ -99,6 +125,8 @@ if [ ${#failed[@]} -gt 0 ]; then
     echo "failed: ${failed[*]}" >&2
     exit 1
 fi
+
+[ "$long_run" = 0 ] || exit 0
 
 # The tests that run alone: the shader that never ends, and the Python tests marked so (Ctrl-C within a
 # second: beside another test binary on Debian 13 an interrupted exact render took 1.01 to 1.37 s).

@@ -426,6 +426,7 @@ fn measured_under_the_sky(folder: &Path) -> std::path::PathBuf {
 }
 
 #[test]
+#[ignore = "long: make test-long"]
 fn the_exact_mode_drawing_from_a_measured_tables_sampler_matches_the_reference() {
     // The exact mode draws from each table's sampler (beside the cosine and the sky); the reference reads
     // the MERL files itself and draws by the cosine and the sky alone.

@@ -16,11 +16,47 @@ use vk_render::vulkan::ShaderSources;
 
 /// Every default view (θo 0 to 85°, φo 0: the built-in models are isotropic), 10⁶ samples each.
 fn options() -> SamplingOptions {
+    options_at(&DEFAULT_THETA_O)
+}
+
+/// The views at `theta_o` (degrees, φo 0), 10⁶ samples each.
+fn options_at(theta_o: &[f64]) -> SamplingOptions {
     SamplingOptions {
-        views: DEFAULT_THETA_O.iter().map(|&t| (t, 0.0)).collect(),
+        views: theta_o.iter().map(|&t| (t, 0.0)).collect(),
         samples: DEFAULT_SAMPLES,
         seed: 1,
         level: DEFAULT_LEVEL,
+    }
+}
+
+/// Three views of θo (degrees): head-on, where a sharp peak sits on the pole, halfway and grazing.
+const THREE_VIEWS: [f64; 3] = [0.0, 40.0, 85.0];
+
+/// How much of each model's range a test of the samplers covers. `make test` takes the two ends of each
+/// family's list (its sharpest lobe first; its roughest, or its most anisotropic, last) at
+/// [`THREE_VIEWS`]. `make test-long` takes the whole list at every default view (one to three minutes a
+/// test on 2 cores).
+#[derive(Clone, Copy)]
+enum Range {
+    Ends,
+    Whole,
+}
+
+impl Range {
+    /// `values` (one family's range, sharp to rough) as this range takes them.
+    fn of<T: Clone>(self, values: &[T]) -> Vec<T> {
+        match self {
+            Range::Whole => values.to_vec(),
+            Range::Ends => vec![values[0].clone(), values[values.len() - 1].clone()],
+        }
+    }
+
+    /// The views of θo (degrees) a model is tested at.
+    fn theta_o(self) -> Vec<f64> {
+        match self {
+            Range::Whole => DEFAULT_THETA_O.to_vec(),
+            Range::Ends => THREE_VIEWS.to_vec(),
+        }
     }
 }
 
@@ -47,22 +83,32 @@ fn failures(report: &SamplingReport) -> Vec<String> {
 }
 
 #[test]
+fn the_built_in_samplers_pass_at_both_ends_of_their_range() {
+    built_in_samplers_pass(Range::Ends);
+}
+
+#[test]
+#[ignore = "long: make test-long"]
 fn every_built_in_sampler_passes_from_sharp_to_rough() {
+    built_in_samplers_pass(Range::Whole);
+}
+
+fn built_in_samplers_pass(range: Range) {
     // Cook-Torrance from roughness 0.01 (GGX's α = 10⁻⁴) to 1, a metal and half a metal over Oren-Nayar;
     // Phong's and Blinn-Phong's lobes from s = 4 to 10⁵ (α about 0.006 as a Beckmann lobe: below s = 4 the
     // course's Blinn-Phong reflects more than it receives, which the energy test says); the diffuse models.
     let mut brdfs = vec![Brdf::Lambert { kd: grey(0.5) }, Brdf::OrenNayar { kd: grey(0.5), sigma: 0.6 }];
-    for roughness in [0.01, 0.1, 0.3, 0.6, 1.0] {
+    for roughness in range.of(&[0.01, 0.1, 0.3, 0.6, 1.0]) {
         brdfs.push(gold(roughness, 1.0));
         brdfs.push(gold(roughness, 0.5));
     }
-    for shininess in [4.0, 16.0, 1000.0, 1e5] {
+    for shininess in range.of(&[4.0, 16.0, 1000.0, 1e5]) {
         brdfs.push(plastic(shininess));
         brdfs.push(blinn_plastic(shininess));
     }
     let mut renderer = renderer();
     for brdf in &brdfs {
-        let report = test_sampler(&mut renderer, brdf, &options(), || ()).unwrap();
+        let report = test_sampler(&mut renderer, brdf, &options_at(&range.theta_o()), || ()).unwrap();
         assert!(report.passed(), "{brdf:?}: {:#?}", failures(&report));
         // The views' p-values are spread, not all near 1 (a density counted twice would pass loosely).
         assert!(report.views.iter().any(|v| v.chi_square.p_value < 0.95), "{brdf:?}");
@@ -79,47 +125,57 @@ fn shipped(file: &str, params: &[(&str, ParameterValue)]) -> Brdf {
 }
 
 #[test]
+fn the_shipped_samplers_pass_at_both_ends_of_their_range() {
+    shipped_samplers_pass(Range::Ends);
+}
+
+#[test]
+#[ignore = "long: make test-long"]
 fn every_shipped_sampler_passes_from_sharp_to_rough() {
+    shipped_samplers_pass(Range::Whole);
+}
+
+fn shipped_samplers_pass(range: Range) {
     // GGX's visible normals (Walter et al.'s model), Ward's half vectors (Walter 2005), Lafortune's cosine
     // lobes, Ashikhmin and Shirley's and the Disney BRDF's lobes, sharp to rough, over a diffuse base, isotropic and anisotropic both ways, at every view and,
     // where the model is anisotropic, every azimuth.
     let float = ParameterValue::Float;
     let grey = |v: f32| ParameterValue::Color(Vec3::splat(v));
     let mut brdfs = Vec::new();
-    for alpha in [0.01, 0.1, 0.4, 1.0] {
+    for alpha in range.of(&[0.01, 0.1, 0.4, 1.0]) {
         brdfs.push(shipped("walter_ggx.brdf", &[("alpha", float(alpha)), ("kd", grey(0.1)), ("f0", grey(0.5))]));
     }
-    for (x, y) in [(0.01, 0.01), (0.2, 0.2), (1.0, 1.0), (0.05, 0.4)] {
+    for (x, y) in range.of(&[(0.01, 0.01), (0.2, 0.2), (1.0, 1.0), (0.05, 0.4)]) {
         let params = [("alpha_x", float(x)), ("alpha_y", float(y)), ("rho_d", grey(0.3)), ("rho_s", grey(0.1))];
         brdfs.push(shipped("ward.brdf", &params));
     }
-    for (nu, nv) in [(1.0, 1.0), (100.0, 100.0), (20.0, 800.0), (1e4, 1e4)] {
+    for (nu, nv) in range.of(&[(1e4, 1e4), (100.0, 100.0), (1.0, 1.0), (20.0, 800.0)]) {
         let params = [("nu", float(nu)), ("nv", float(nv)), ("Rd", grey(0.3)), ("Rs", grey(0.3))];
         brdfs.push(shipped("ashikhmin_shirley.brdf", &params));
     }
     // Lafortune's generalized cosine lobe about its own axis: the sharpest modified Phong lobe, off-specular
     // towards grazing (Cxy -0.7), and about the normal (Cxy 0).
-    for (cxy, n) in [(-1.0, 2000.0), (-0.7, 60.0), (0.0, 20.0)] {
+    for (cxy, n) in range.of(&[(-1.0, 2000.0), (-0.7, 60.0), (0.0, 20.0)]) {
         let params = [("Cxy", float(cxy)), ("n", float(n)), ("rho_d", grey(0.3)), ("rho_s", grey(0.3))];
         brdfs.push(shipped("lafortune.brdf", &params));
     }
-    // The Disney BRDF by its lobes: its defaults, an anisotropic metal, a sharp clearcoat over a sharp lobe,
-    // the roughest metal.
+    // The Disney BRDF by its lobes: a sharp clearcoat over a sharp lobe, its defaults, the roughest metal,
+    // an anisotropic metal.
     let gold = ParameterValue::Color(Vec3::new(0.82, 0.67, 0.16));
-    for params in [
-        vec![],
-        vec![("anisotropic", float(0.9)), ("metallic", float(1.0)), ("roughness", float(0.35))],
-        vec![("clearcoat", float(1.0)), ("roughness", float(0.05))],
+    for params in range.of(&[
+        &[("clearcoat", float(1.0)), ("roughness", float(0.05))][..],
+        &[],
         // Rough, as a metal: over its diffuse base the model reflects more than it receives at 85° (Burley's
         // retro-reflection), which the energy test says of it.
-        vec![("roughness", float(1.0)), ("metallic", float(1.0))],
-    ] {
-        brdfs.push(shipped("disney.brdf", &[&[("baseColor", gold)], &params[..]].concat()));
+        &[("roughness", float(1.0)), ("metallic", float(1.0))],
+        &[("anisotropic", float(0.9)), ("metallic", float(1.0)), ("roughness", float(0.35))],
+    ]) {
+        brdfs.push(shipped("disney.brdf", &[&[("baseColor", gold)], params].concat()));
     }
     let mut renderer = renderer();
     for brdf in &brdfs {
         let options =
-            SamplingOptions { views: views(&mut renderer, brdf, &DEFAULT_THETA_O, None).unwrap(), ..options() };
+            SamplingOptions { views: views(&mut renderer, brdf, &range.theta_o(), None).unwrap(), ..options() };
         let report = test_sampler(&mut renderer, brdf, &options, || ()).unwrap();
         assert!(report.passed(), "{}: {:#?}", vk_render::analysis::describe(brdf), failures(&report));
     }
@@ -134,7 +190,17 @@ fn measured(brdf: &Brdf) -> Brdf {
 }
 
 #[test]
+fn the_measured_samplers_pass_at_both_ends_of_their_range() {
+    measured_samplers_pass(Range::Ends);
+}
+
+#[test]
+#[ignore = "long: make test-long"]
 fn every_measured_sampler_passes_from_sharp_to_rough() {
+    measured_samplers_pass(Range::Whole);
+}
+
+fn measured_samplers_pass(range: Range) {
     // Tables of a sharp and a rough metal and of a diffuse model, each drawn from its own table's sampler.
     // The sharp metal's f0 below the gold's: the table's interpolation of so sharp a peak reflects a little
     // more than the model (an albedo of 1.02 seen head-on at f0 1), which the energy test would say.
@@ -146,8 +212,8 @@ fn every_measured_sampler_passes_from_sharp_to_rough() {
         diffuse: DiffuseModel::Lambert,
     };
     let mut renderer = renderer();
-    for brdf in [sharp, gold(0.5, 0.5), Brdf::OrenNayar { kd: grey(0.5), sigma: 0.6 }] {
-        let report = test_sampler(&mut renderer, &measured(&brdf), &options(), || ()).unwrap();
+    for brdf in range.of(&[sharp, gold(0.5, 0.5), Brdf::OrenNayar { kd: grey(0.5), sigma: 0.6 }]) {
+        let report = test_sampler(&mut renderer, &measured(&brdf), &options_at(&range.theta_o()), || ()).unwrap();
         assert!(report.passed(), "{brdf:?} as measured: {:#?}", failures(&report));
         assert!(report.views.iter().any(|v| v.chi_square.p_value < 0.95), "{brdf:?}");
     }
@@ -245,26 +311,30 @@ fn each_mutant_is_caught_by_its_test() {
     for mutant in mutants() {
         let sources = ShaderSources::default().with_replaced(mutant.file, mutant.from, mutant.to).unwrap();
         renderer.set_shaders(sources).unwrap();
-        let report = test_sampler(&mut renderer, &mutant.brdf, &options(), || ());
-        renderer.set_shaders(ShaderSources::default()).unwrap();
-        let report = report.unwrap();
+        let report = test_sampler(&mut renderer, &mutant.brdf, &options_at(&THREE_VIEWS), || ()).unwrap();
         if !report.verdicts.iter().any(|v| v.test == mutant.caught_by && !v.passed) {
             missed.push(format!("{} (not caught by {}): {:#?}", mutant.name, mutant.caught_by, failures(&report)));
         }
     }
+    renderer.set_shaders(ShaderSources::default()).unwrap();
     // A .brdf file's sampler broken on purpose: Ward's density without the reflection's 1 / (4 V.H).
     let ward = common::shipped("ward.brdf");
     let text = ward.source().replace("NdotH * NdotH * NdotH * 4.0 * VdotH)", "NdotH * NdotH * NdotH)");
     assert_ne!(text, ward.source());
     let broken = vk_render::brdf::AnalyticModel::from_text(&ward.path, text).unwrap();
-    let report = test_sampler(&mut renderer, &Brdf::Analytic(Analytic::defaults(broken.into())), &options(), || ());
+    let report = test_sampler(
+        &mut renderer,
+        &Brdf::Analytic(Analytic::defaults(broken.into())),
+        &options_at(&THREE_VIEWS),
+        || (),
+    );
     let report = report.unwrap();
     if !report.verdicts.iter().any(|v| v.test == "chi-square" && !v.passed) {
         missed.push(format!("ward.brdf's density without 1 / (4 V.H): {:#?}", failures(&report)));
     }
     assert!(missed.is_empty(), "{missed:#?}");
     // And the shaders put back pass again.
-    assert!(test_sampler(&mut renderer, &plastic(16.0), &options(), || ()).unwrap().passed());
+    assert!(test_sampler(&mut renderer, &plastic(16.0), &options_at(&THREE_VIEWS), || ()).unwrap().passed());
 }
 
 fn course_materials() -> String {

@@ -249,6 +249,13 @@ fn mutant_analytic_shaders(folder: &Path, id: &str, file: &str, from: &str, to: 
 /// The scenes of assets/environment/.
 const ENVIRONMENT_SCENES: [&str; 3] = ["spheres-sky", "white-furnace", "golden-bunny-studio"];
 
+/// A scene of Figure 3's size (600 x 400) at half its width and height.
+fn quarter(scene: &str) -> String {
+    let small = scene.replace("width = 600\nheight = 400", "width = 300\nheight = 200");
+    assert_ne!(small, scene, "Figure 3's size is where the test expects it");
+    small
+}
+
 /// A folder of scenes the browser test serves beside the figures: Figure 3's sphere in a measured material
 /// (Cook-Torrance gold tabulated as a MERL file) and in an anisotropic RGL file (Ward's alpha 0.2 and 0.45,
 /// tabulated by `vk-render tabulate`), Figure 4's gold through ACES and sRGB, two term views, and
@@ -299,8 +306,14 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
         bsdf.to_str().unwrap(),
     ]);
     assert!(tabulated.status.success(), "{}", String::from_utf8_lossy(&tabulated.stderr));
-    std::fs::write(scenes.join("rgl-ward.toml"), with_plastic("brdf = \"measured\"\nfile = \"ward.bsdf\"")).unwrap();
-    std::fs::write(scenes.join("sky.toml"), format!("{figure}\n[environment]\nbuiltin = \"sky\"\n")).unwrap();
+    // At a quarter of Figure 3's pixels, as the sky below: SwiftShader's frame of an RGL file, which searches
+    // its grids at every pixel, took 16 s at the figure's size; the lookups are the same at any size.
+    let rgl = with_plastic("brdf = \"measured\"\nfile = \"ward.bsdf\"");
+    std::fs::write(scenes.join("rgl-ward.toml"), quarter(&rgl)).unwrap();
+    // The sky's exact image at a quarter of Figure 3's pixels: what the page does with a frame that only the
+    // server draws is the same at any size, and its cost (the server's and the site's render) is the pixels'.
+    std::fs::write(scenes.join("sky.toml"), format!("{}\n[environment]\nbuiltin = \"sky\"\n", quarter(&figure)))
+        .unwrap();
     // Figure 4's gold through another output transform: exposure, ACES's curve and sRGB's encoding.
     let gold = std::fs::read_to_string(common::root().join("assets/scenes/fig4-gold-metalness-1.0.toml")).unwrap();
     let filmic = gold.replace(
@@ -324,29 +337,132 @@ fn more_scenes(folder: &Path) -> std::path::PathBuf {
     scenes
 }
 
-/// The explore page renders every catalogue scene in the browser (WebGL2 on SwiftShader, the renderer's own
-/// shaders translated at build time): each frame, read back from the canvas, against `vk-render render` of
-/// the same state at the same size, within the bound away from the silhouettes (the pixels where
-/// the scene's 4 samples and 1 sample differ: the browser draws 1); the page's own frame and shadow
-/// matrices equal the renderer's; five shaders broken on purpose are caught; a finger's drag orbits; the
-/// page fits a phone's, a tablet's and a laptop's window.
-#[test]
-fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
-    let folder = common::temp_dir();
-    let scenes = more_scenes(folder.path());
+/// A scene the explore page is held to: its id, its file, and the overrides it is drawn with (as the page's
+/// controls set them).
+type Drawn = (String, std::path::PathBuf, Value);
+
+/// Every scene of the catalogue but the sky's (whose exact still frame is the server's); the .brdf models'
+/// spheres once more with a float and a colour of theirs moved, as their controls move them; the
+/// environments' scenes in their fast mode, which the browser draws (the sky's once more with its gold
+/// moved).
+fn catalogue(scenes: &Path, analytic: &Path) -> Vec<Drawn> {
+    let mut every: Vec<Drawn> = vk_render::figures::FIGURES
+        .iter()
+        .flat_map(|f| f.images)
+        .map(|image| {
+            let id = image.file.trim_end_matches(".toml").to_string();
+            let path = common::root().join(format!("assets/scenes/{id}.toml"));
+            (id, path, json!({}))
+        })
+        .collect();
+    for id in ["measured-gold", "rgl-ward", "aces-srgb", "term-d", "term-normal"] {
+        every.push((id.into(), scenes.join(format!("{id}.toml")), json!({})));
+    }
+    for id in ["anisotropic-spheres", "brushed-tori"] {
+        every.push((id.into(), analytic.join(format!("{id}.toml")), json!({})));
+    }
+    let moved = json!({"material.brushed.params.alpha_x": 0.3, "material.shirley.params.Rs": [0.2, 0.9, 0.3]});
+    every.push(("anisotropic-spheres".into(), analytic.join("anisotropic-spheres.toml"), moved));
+    for id in ENVIRONMENT_SCENES {
+        every.push((format!("{id}-fast"), scenes.join(format!("{id}-fast.toml")), json!({})));
+    }
+    // A material moved under the environment: its albedo table asked of the server again.
+    let rougher = json!({"material.gold.roughness": 0.6, "material.gold.f0": [0.9, 0.6, 0.3]});
+    every.push(("spheres-sky-fast".into(), scenes.join("spheres-sky-fast.toml"), rougher));
+    every
+}
+
+/// The scenes `make test` draws in the browser: one of each kind the renderer has a path for (each figure's
+/// BRDF, the bunny's mesh and shadows, a measured table, an RGL file, an output transform, a term view,
+/// `.brdf` models with their controls moved, an environment's fast mode with its material moved, a mesh under
+/// a map). `make test-long` draws the others.
+const ONE_OF_EACH_KIND: [&str; 12] = [
+    "fig1-lambert",
+    "fig2-oren-nayar-sigma-0.6",
+    "fig3-plastic-s-16",
+    "fig4-gold-metalness-0.5",
+    "fig5-golden-bunny",
+    "measured-gold",
+    "rgl-ward",
+    "aces-srgb",
+    "term-d",
+    "anisotropic-spheres",
+    "spheres-sky-fast",
+    "golden-bunny-studio-fast",
+];
+
+/// A server of the catalogue and of [`more_scenes`] (written into `folder`), whose exact frames have time.
+fn explore_server(folder: &Path) -> (Server, std::path::PathBuf, std::path::PathBuf) {
+    let scenes = more_scenes(folder);
     let analytic = common::root().join("assets/analytic");
-    // The sky's exact still frame takes a minute on lavapipe alone, and more than the default deadline of
-    // 120 s beside another test binary on 2 cores (the socket then asks again, and never gets it).
+    // The sky's exact still frame may take minutes on a busy machine, more than the default deadline of
+    // 120 s (the socket then asks again, and never gets it).
     let mut arguments = vec!["--workers", "1", "--deadline", "600"];
     for folder in [&scenes, &analytic] {
         arguments.extend(["--scenes", folder.to_str().unwrap()]);
     }
-    let server = Server::start("127.0.0.1:0", &arguments, &[]);
+    (Server::start("127.0.0.1:0", &arguments, &[]), scenes, analytic)
+}
+
+/// A browser on `server`'s explore page, once it renders in the browser with a clean console.
+fn explore_in_browser(server: &Server) -> Browser {
     let browser = Browser::start(1500, 1000);
-    let base = format!("http://{}", server.loopback());
-    browser.open(&format!("{base}/explore?scene=fig1-lambert"));
+    browser.open(&format!("http://{}/explore?scene=fig1-lambert", server.loopback()));
     browser.wait_for("the browser's renderer", "return page.mode === 'browser';", Duration::from_secs(120));
     assert_console_clean(&browser, "explore, rendering in the browser");
+    browser
+}
+
+/// Each of `scenes` drawn by the browser (`place` names the page) against `vk-render render` of the same
+/// state at the same size, within the bound away from the silhouettes (the pixels where the scene's 4
+/// samples and 1 sample differ: the browser draws 1): each scene's id, `render`'s image and its silhouettes.
+fn drawn_as_render(
+    browser: &Browser,
+    folder: &Path,
+    scenes: &[Drawn],
+    place: &str,
+) -> Vec<(String, image::RgbImage, Vec<bool>)> {
+    let mut measured = Vec::new();
+    for (id, path, set) in scenes {
+        let id = id.as_str();
+        let shown = browser_frame(browser, id, set);
+        let (width, height) = shown.dimensions();
+        let mut args: Vec<String> = Vec::new();
+        for (key, value) in set.as_object().unwrap() {
+            args.extend(["--set".to_string(), format!("{key}={value}")]);
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let cli = cli_frame(folder, id, path, width, height, &args);
+        let single = cli_frame(folder, id, path, width, height, &[&args[..], &["--samples", "1"]].concat());
+        let edges: Vec<bool> = cli.pixels().zip(single.pixels()).map(|(a, b)| a != b).collect();
+        let agreement = compare(&shown, &cli, &edges);
+        let to_single = compare(&shown, &single, &vec![false; edges.len()]);
+        let edge_share = edges.iter().filter(|&&e| e).count() as f64 / edges.len() as f64;
+        eprintln!(
+            "{place}: {id} {set} {width} x {height}, the silhouettes ({:.2}% of the pixels) aside: {agreement}; against 1 sample a pixel, every pixel: {to_single}",
+            100.0 * edge_share
+        );
+        if !within_bound(&agreement) {
+            let folder = std::env::temp_dir().join("vk-render-browser");
+            let _ = write_failure_images(&folder, id, &shown, &cli, &edges);
+        }
+        assert!(within_bound(&agreement), "{place}, {id}: the browser's frame against vk-render render: {agreement}");
+        measured.push((id.to_string(), cli, edges));
+    }
+    measured
+}
+
+/// The explore page renders in the browser (WebGL2 on SwiftShader, the renderer's own shaders translated
+/// at build time) as `vk-render render` does: one scene of each kind, each frame read back from the canvas
+/// ([`drawn_as_render`]; the catalogue's other scenes: make test-long); the page's own frame and shadow
+/// matrices equal the renderer's; six shaders broken on purpose are caught; a finger's drag orbits; the
+/// page fits a phone's, a tablet's and a laptop's window; the student's own BRDF.
+#[test]
+fn the_explore_page_renders_in_the_browser_as_vk_render_does() {
+    let folder = common::temp_dir();
+    let (server, scenes, analytic) = explore_server(folder.path());
+    let browser = explore_in_browser(&server);
+    let base = format!("http://{}", server.loopback());
 
     // The page's mirror of the renderer's host-side math, on every scene as its file says.
     let mirror = browser.run(
@@ -382,60 +498,12 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     let said = browser.run("return page.scene.browser.unsupported;", &[]);
     assert_eq!(said, json!(null), "{said}");
 
-    // Every scene of the catalogue but the sky's, against vk-render render at the picture's size; the
-    // .brdf models' spheres once more with a float and a colour of theirs moved, as their controls move them;
-    // the environments' scenes in their fast mode, which the browser draws (the sky's once more with its gold
-    // moved).
-    let mut every: Vec<(String, std::path::PathBuf, Value)> = vk_render::figures::FIGURES
-        .iter()
-        .flat_map(|f| f.images)
-        .map(|image| {
-            let id = image.file.trim_end_matches(".toml").to_string();
-            let path = common::root().join(format!("assets/scenes/{id}.toml"));
-            (id, path, json!({}))
-        })
-        .collect();
-    for id in ["measured-gold", "rgl-ward", "aces-srgb", "term-d", "term-normal"] {
-        every.push((id.into(), scenes.join(format!("{id}.toml")), json!({})));
-    }
-    for id in ["anisotropic-spheres", "brushed-tori"] {
-        every.push((id.into(), analytic.join(format!("{id}.toml")), json!({})));
-    }
-    let moved = json!({"material.brushed.params.alpha_x": 0.3, "material.shirley.params.Rs": [0.2, 0.9, 0.3]});
-    every.push(("anisotropic-spheres".into(), analytic.join("anisotropic-spheres.toml"), moved));
-    for id in ENVIRONMENT_SCENES {
-        every.push((format!("{id}-fast"), scenes.join(format!("{id}-fast.toml")), json!({})));
-    }
-    // A material moved under the environment: its albedo table asked of the server again.
-    let rougher = json!({"material.gold.roughness": 0.6, "material.gold.f0": [0.9, 0.6, 0.3]});
-    every.push(("spheres-sky-fast".into(), scenes.join("spheres-sky-fast.toml"), rougher));
-    let mut measured = Vec::new();
-    for (id, path, set) in &every {
-        let id = id.as_str();
-        let shown = browser_frame(&browser, id, set);
-        let (width, height) = shown.dimensions();
-        let mut args: Vec<String> = Vec::new();
-        for (key, value) in set.as_object().unwrap() {
-            args.extend(["--set".to_string(), format!("{key}={value}")]);
-        }
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let cli = cli_frame(folder.path(), id, path, width, height, &args);
-        let single = cli_frame(folder.path(), id, path, width, height, &[&args[..], &["--samples", "1"]].concat());
-        let edges: Vec<bool> = cli.pixels().zip(single.pixels()).map(|(a, b)| a != b).collect();
-        let agreement = compare(&shown, &cli, &edges);
-        let to_single = compare(&shown, &single, &vec![false; edges.len()]);
-        let edge_share = edges.iter().filter(|&&e| e).count() as f64 / edges.len() as f64;
-        eprintln!(
-            "{id} {set} {width} x {height}, the silhouettes ({:.2}% of the pixels) aside: {agreement}; against 1 sample a pixel, every pixel: {to_single}",
-            100.0 * edge_share
-        );
-        if !within_bound(&agreement) {
-            let folder = std::env::temp_dir().join("vk-render-browser");
-            let _ = write_failure_images(&folder, id, &shown, &cli, &edges);
-        }
-        assert!(within_bound(&agreement), "{id}: the browser's frame against vk-render render: {agreement}");
-        measured.push((id.to_string(), cli, edges));
-    }
+    // One scene of each kind against vk-render render at the picture's size (the others: make test-long).
+    let every = catalogue(&scenes, &analytic);
+    let one_of_each: Vec<_> =
+        every.iter().filter(|(id, ..)| ONE_OF_EACH_KIND.contains(&id.as_str())).cloned().collect();
+    assert!(ONE_OF_EACH_KIND.iter().all(|kind| one_of_each.iter().any(|(id, ..)| id == kind)), "{one_of_each:?}");
+    let measured = drawn_as_render(&browser, folder.path(), &one_of_each, "explore");
 
     // The bunny's motion frame (half size, its lighter mesh) against the server's motion frame (`render` at
     // half size, one sample): the same picture but for the merged vertices' facets and silhouette.
@@ -617,11 +685,21 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     assert_console_clean(&browser, "explore, every screen");
     browser.resize(1500, 1000);
     editor::the_students_own_brdf(&browser, &format!("{base}/explore.html"), folder.path(), false);
-
-    // The same explorer as a static folder (`vk-render site`), served by Python's http.server from a sub-path,
-    // the server stopped: the browser's frames are `vk-render render`'s within the same bound.
     let (code, stderr, _) = server.terminate(Duration::from_secs(30));
     assert_eq!(code, Some(0), "{stderr}");
+}
+
+/// The same explorer as a static folder (`vk-render site`), served by Python's http.server from a sub-path,
+/// no vk-render running: the browser's frames are `vk-render render`'s within the same bound
+/// ([`drawn_as_render`]), the studies' lobes and albedos `plot lobe`'s and `plot albedo`'s, the sky's exact
+/// image `render`'s; then the site's check page and the student's own BRDF.
+#[test]
+fn the_site_renders_in_the_browser_as_vk_render_does() {
+    let folder = common::temp_dir();
+    let scenes = more_scenes(folder.path());
+    let analytic = common::root().join("assets/analytic");
+    let every = catalogue(&scenes, &analytic);
+    let browser = Browser::start(1500, 1000);
     let site = folder.path().join("public/course");
     let written = common::vk_render(&[
         "site",
@@ -645,24 +723,18 @@ fn the_explore_page_renders_every_scene_in_the_browser_as_vk_render_does() {
     let http = StaticServer::start(&folder.path().join("public"));
     browser.open(&format!("http://{}/course/explore.html?scene=fig1-lambert", http.address));
     browser.wait_for("the site's renderer", "return page.mode === 'browser';", Duration::from_secs(120));
-    for id in [
+    let on_the_site: Vec<Drawn> = [
         "fig1-lambert",
         "fig4-gold-metalness-0.5",
         "fig5-golden-bunny",
         "measured-gold",
         "anisotropic-spheres",
         "spheres-sky-fast",
-    ] {
-        let shown = browser_frame(&browser, id, &json!({}));
-        let (width, height) = shown.dimensions();
-        let path = every.iter().find(|e| e.0 == id).map(|e| e.1.clone()).unwrap();
-        let cli = cli_frame(folder.path(), id, &path, width, height, &[]);
-        let single = cli_frame(folder.path(), id, &path, width, height, &["--samples", "1"]);
-        let edges: Vec<bool> = cli.pixels().zip(single.pixels()).map(|(a, b)| a != b).collect();
-        let agreement = compare(&shown, &cli, &edges);
-        eprintln!("the site: {id} {width} x {height}, the silhouettes aside: {agreement}");
-        assert!(within_bound(&agreement), "the site, {id}: the browser's frame against vk-render render: {agreement}");
-    }
+    ]
+    .into_iter()
+    .map(|id| every.iter().find(|e| e.0 == id).map(|e| (e.0.clone(), e.1.clone(), json!({}))).unwrap())
+    .collect();
+    drawn_as_render(&browser, folder.path(), &on_the_site, "the site");
     // Under an environment the site has the scene's own albedo tables: the material's controls rest; the
     // exact image of an exact environment is `render`'s, and the page says so; the studies are the server's.
     let state = browser.run(
@@ -763,4 +835,18 @@ impl Drop for StaticServer {
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
+}
+
+/// The catalogue's scenes that `make test` leaves out ([`ONE_OF_EACH_KIND`]'s others) drawn by the explore
+/// page in the browser as `vk-render render` draws them ([`drawn_as_render`]).
+#[test]
+#[ignore = "long: make test-long"]
+fn every_other_catalogue_scene_renders_in_the_browser_as_vk_render_does() {
+    let folder = common::temp_dir();
+    let (server, scenes, analytic) = explore_server(folder.path());
+    let browser = explore_in_browser(&server);
+    let others: Vec<Drawn> =
+        catalogue(&scenes, &analytic).into_iter().filter(|(id, ..)| !ONE_OF_EACH_KIND.contains(&id.as_str())).collect();
+    drawn_as_render(&browser, folder.path(), &others, "explore");
+    assert_console_clean(&browser, "explore, every other scene");
 }

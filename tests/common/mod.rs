@@ -113,8 +113,9 @@ pub fn exists(path: &Path) -> bool {
     path.exists()
 }
 
-/// Runs vk-render with validation, failing the test if it has not exited within two minutes (a hang must
-/// fail a test, not stall it).
+/// Runs vk-render with validation, failing the test if it has not exited within ten minutes (a hang must
+/// fail a test, not stall it; a machine busy with other work may take a few minutes over what takes
+/// seconds alone). Its output is read while it runs, so that a long one never fills a pipe and waits.
 pub fn vk_render(args: &[&str]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_vk-render"))
         .arg("--validate")
@@ -123,15 +124,29 @@ pub fn vk_render(args: &[&str]) -> Output {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("run vk-render");
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
-    while child.try_wait().expect("wait for vk-render").is_none() {
+    let read = |mut pipe: Box<dyn std::io::Read + Send>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            pipe.read_to_end(&mut bytes).map(|_| bytes)
+        })
+    };
+    let stdout = read(Box::new(child.stdout.take().expect("a piped stdout")));
+    let stderr = read(Box::new(child.stderr.take().expect("a piped stderr")));
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(600);
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait for vk-render") {
+            break status;
+        }
         if std::time::Instant::now() > deadline {
             let _ = child.kill();
-            panic!("vk-render {args:?} hung: killed after two minutes");
+            panic!("vk-render {args:?} hung: killed after ten minutes");
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    child.wait_with_output().expect("vk-render's output")
+    };
+    let collected = |reader: std::thread::JoinHandle<std::io::Result<Vec<u8>>>| {
+        reader.join().expect("a pipe's reader").expect("vk-render's output")
+    };
+    Output { status, stdout: collected(stdout), stderr: collected(stderr) }
 }
 
 /// Runs `vk-render ARGS` (which must succeed) and returns its peak resident size in MB (VmHWM, read until

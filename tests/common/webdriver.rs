@@ -67,6 +67,10 @@ impl Browser {
                 "args": args,
             },
             "goog:loggingPrefs": {"browser": "ALL"},
+            // No limit on a script's run (WebDriver's default is 30 s): on a loaded machine the page's
+            // thread may be drawing with SwiftShader for longer before it runs the script, which is not a
+            // failure. Each wait says its own deadline (`wait_for`), and a reply never sent is the socket's.
+            "timeouts": {"script": null},
         }}});
         let created = browser.call("POST", "/session", &capabilities);
         browser.session = created["sessionId"].as_str().expect("a session id").to_string();
@@ -76,7 +80,9 @@ impl Browser {
     /// A WebDriver command; its `value`. A WebDriver error fails the test.
     pub fn call(&self, method: &str, path: &str, body: &Value) -> Value {
         let mut stream = TcpStream::connect(self.address).expect("connect to chromedriver");
-        stream.set_read_timeout(Some(Duration::from_secs(120))).expect("a timeout");
+        // A hang's deadline, not a page's: a script waits for the page's thread, which a busy machine may
+        // keep drawing for minutes.
+        stream.set_read_timeout(Some(Duration::from_secs(600))).expect("a timeout");
         let body = if body.is_null() { String::new() } else { body.to_string() };
         let request = format!(
             "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
