@@ -35,11 +35,12 @@ fi
 jobs=${VK_RENDER_TEST_JOBS:-$(nproc)}
 limit=${VK_RENDER_TEST_TIMEOUT:-1200}
 
-# The tests that took longest (tests/sampling.rs 311 s of CPU, serve_browser.rs 190 s, environment.rs 125 s,
-# analytic_fit.rs 31 s, pytest 32 s, cli.rs 26 s, on 2 cores): started first, so that no long one is left
-# running alone at the end.
-longest_first=(tests/sampling.rs tests/environment.rs tests/serve_browser.rs tests/analytic_fit.rs python/tests
-    tests/cli.rs tests/preview.rs tests/docs.rs tests/analytic_cli.rs tests/measured.rs tests/serve.rs tests/check.rs)
+# The tests that take longest, by their time side by side on 2 cores (tests/serve_browser.rs 319 s,
+# sampling.rs 200 s, serve.rs 110 s, pytest 98 s, docs.rs 87 s, environment.rs 70 s, measured.rs 58 s):
+# started first, so that no long one is left running alone at the end.
+longest_first=(tests/serve_browser.rs tests/sampling.rs tests/serve.rs python/tests tests/docs.rs
+    tests/environment.rs tests/measured.rs tests/analytic_fit.rs tests/cli.rs tests/preview.rs tests/analytic_cli.rs
+    tests/check.rs)
 
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
