@@ -311,16 +311,6 @@ fn files_written(script: &str) -> Vec<String> {
     files
 }
 
-/// Everything `reader` gives until its end, read on a thread of its own (so that a full pipe never stalls the
-/// child while the other is read).
-fn read_on_a_thread(mut reader: impl std::io::Read + Send + 'static) -> std::thread::JoinHandle<String> {
-    std::thread::spawn(move || {
-        let mut text = String::new();
-        reader.read_to_string(&mut text).ok();
-        text
-    })
-}
-
 /// Runs `script` with `sh -e -x` in `folder`, with `bin` first on PATH; gives up (the test fails) after
 /// `limit`, killing the script and everything it started.
 fn run_script(script: &str, folder: &Path, bin: &Path, limit: Duration) -> (bool, String) {
@@ -336,8 +326,8 @@ fn run_script(script: &str, folder: &Path, bin: &Path, limit: Duration) -> (bool
         .spawn()
         .expect("sh");
     let deadline = Instant::now() + limit;
-    let out = read_on_a_thread(child.stdout.take().unwrap());
-    let err = read_on_a_thread(child.stderr.take().unwrap());
+    let out = common::read_on_a_thread(child.stdout.take().unwrap());
+    let err = common::read_on_a_thread(child.stderr.take().unwrap());
     let status = loop {
         if let Some(status) = child.try_wait().expect("wait for sh") {
             break Some(status);
@@ -350,7 +340,8 @@ fn run_script(script: &str, folder: &Path, bin: &Path, limit: Duration) -> (bool
         }
         std::thread::sleep(Duration::from_millis(20));
     };
-    let output = format!("{}{}", out.join().unwrap(), err.join().unwrap());
+    let text = |reader: std::thread::JoinHandle<Vec<u8>>| String::from_utf8_lossy(&reader.join().unwrap()).into_owned();
+    let output = format!("{}{}", text(out), text(err));
     match status {
         Some(status) => (status.success(), format!("{status}\n{output}")),
         None => (false, format!("still running after {limit:?}: killed\n{output}")),

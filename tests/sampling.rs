@@ -43,7 +43,7 @@ enum Range {
 }
 
 impl Range {
-    /// `values` (one family's range, sharp to rough) as this range takes them.
+    /// `values` (one family's list, its sharpest first) as this range takes them.
     fn of<T: Clone>(self, values: &[T]) -> Vec<T> {
         match self {
             Range::Whole => values.to_vec(),

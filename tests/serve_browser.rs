@@ -732,7 +732,7 @@ fn the_site_renders_in_the_browser_as_vk_render_does() {
         "spheres-sky-fast",
     ]
     .into_iter()
-    .map(|id| every.iter().find(|e| e.0 == id).map(|e| (e.0.clone(), e.1.clone(), json!({}))).unwrap())
+    .map(|id| every.iter().find(|e| e.0 == id).cloned().unwrap())
     .collect();
     drawn_as_render(&browser, folder.path(), &on_the_site, "the site");
     // Under an environment the site has the scene's own albedo tables: the material's controls rest; the

@@ -124,14 +124,8 @@ pub fn vk_render(args: &[&str]) -> Output {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("run vk-render");
-    let read = |mut pipe: Box<dyn std::io::Read + Send>| {
-        std::thread::spawn(move || {
-            let mut bytes = Vec::new();
-            pipe.read_to_end(&mut bytes).map(|_| bytes)
-        })
-    };
-    let stdout = read(Box::new(child.stdout.take().expect("a piped stdout")));
-    let stderr = read(Box::new(child.stderr.take().expect("a piped stderr")));
+    let stdout = read_on_a_thread(child.stdout.take().expect("a piped stdout"));
+    let stderr = read_on_a_thread(child.stderr.take().expect("a piped stderr"));
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(600);
     let status = loop {
         if let Some(status) = child.try_wait().expect("wait for vk-render") {
@@ -143,10 +137,17 @@ pub fn vk_render(args: &[&str]) -> Output {
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     };
-    let collected = |reader: std::thread::JoinHandle<std::io::Result<Vec<u8>>>| {
-        reader.join().expect("a pipe's reader").expect("vk-render's output")
-    };
-    Output { status, stdout: collected(stdout), stderr: collected(stderr) }
+    Output { status, stdout: stdout.join().expect("a pipe's reader"), stderr: stderr.join().expect("a pipe's reader") }
+}
+
+/// Everything `reader` gives until its end, read on a thread of its own (so that a child's full pipe never
+/// stalls it while the test waits for it, or reads its other pipe).
+pub fn read_on_a_thread(mut reader: impl std::io::Read + Send + 'static) -> std::thread::JoinHandle<Vec<u8>> {
+    std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        reader.read_to_end(&mut bytes).ok();
+        bytes
+    })
 }
 
 /// Runs `vk-render ARGS` (which must succeed) and returns its peak resident size in MB (VmHWM, read until
@@ -158,10 +159,14 @@ pub fn peak_resident_mb(args: &[&str]) -> (u64, String) {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("run vk-render");
+    let stderr = read_on_a_thread(child.stderr.take().expect("a piped stderr"));
     let status = format!("/proc/{}/status", child.id());
     let mut peak_kb = 0u64;
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
-    while child.try_wait().expect("wait for vk-render").is_none() {
+    let exit = loop {
+        if let Some(exit) = child.try_wait().expect("wait for vk-render") {
+            break exit;
+        }
         if std::time::Instant::now() > deadline {
             let _ = child.kill();
             panic!("vk-render {args:?} hung: killed after five minutes");
@@ -171,10 +176,9 @@ pub fn peak_resident_mb(args: &[&str]) -> (u64, String) {
         });
         peak_kb = peak_kb.max(hwm.unwrap_or(0));
         std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    let output = child.wait_with_output().expect("vk-render's output");
-    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
-    assert!(output.status.success(), "vk-render {args:?}: {stderr}");
+    };
+    let stderr = String::from_utf8_lossy(&stderr.join().expect("a pipe's reader")).to_string();
+    assert!(exit.success(), "vk-render {args:?}: {stderr}");
     assert!(peak_kb > 0, "no peak resident size read");
     (peak_kb / 1024, stderr)
 }
