@@ -13,10 +13,16 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::sampling::cubature::coordinates;
-
 /// Cells expecting fewer samples than this are pooled (Cochran's rule, as Mitsuba and pbrt pool).
 pub const MIN_EXPECTED: f64 = 5.0;
+
+/// A direction's (cos θ, φ) about +z, cos θ exact near the poles (the cubature's cells of the sampling test share them: its cells are this grid's, cut).
+pub fn coordinates(d: DVec3) -> (f64, f64) {
+    let d = d.normalize();
+    let across = d.x * d.x + d.y * d.y;
+    let cos_theta = if d.z.abs() > 0.5 { d.z.signum() * (1.0 - across / (1.0 + d.z.abs())) } else { d.z };
+    (cos_theta, d.y.atan2(d.x))
+}
 
 /// The sphere cut into `cos_bins` bands of equal height in cos θ (about +z) and `phi_bins` equal sectors of
 /// φ: every cell has the solid angle 4π / (cos_bins × phi_bins).

@@ -10,7 +10,7 @@ use ash::vk;
 use super::analytic::{analytic_shader, AnalyticShader};
 use super::gpu_types::{brdf_id, diffuse_id};
 use super::passes::{
-    begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, DepthStart, PassTargets,
+    begin_rendering, build_pipeline, set_viewport_and_scissor, CompiledShader, DepthStart, PassTargets, DEPTH_FORMAT,
 };
 use crate::error::Result;
 use crate::mesh::PlacedMesh;
@@ -19,7 +19,6 @@ use crate::vulkan::{Device, GraphicsPipelineDesc, Pipeline, PipelineLayout, Shad
 
 /// The HDR colour format: 32-bit float, so that the course's truncation to 8 bits sees exact values.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
-pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// The forward pass's compiled shaders, and its pipelines, each built on first use.
 pub struct ForwardPass {

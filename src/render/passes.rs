@@ -7,12 +7,14 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec3};
 
-use super::forward::DEPTH_FORMAT;
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, PlacedMesh, Vertex};
 use crate::vulkan::{
     layout_transition, Access, Buffer, Device, GraphicsPipelineDesc, Image, Pipeline, PipelineLayout, ShaderCompiler,
 };
+
+/// The depth format of every pass that tests depth (shadow, forward, the resolve's copy of it).
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// The vertex buffer layout: a homogeneous position, a normal and a tangent.
 pub fn vertex_input() -> ([vk::VertexInputBindingDescription; 1], [vk::VertexInputAttributeDescription; 3]) {

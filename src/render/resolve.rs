@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::forward::DEPTH_FORMAT;
+use super::passes::DEPTH_FORMAT;
 use super::targets::{Targets, BYTES_PER_PIXEL};
 use crate::error::Result;
 use crate::output::TexelOrder;

@@ -12,8 +12,8 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat4, Vec3};
 
-use super::forward::DEPTH_FORMAT;
 use super::gpu_types::PixelRays;
+use super::passes::DEPTH_FORMAT;
 use super::passes::{begin_rendering, build_pipeline, CompiledShader, DepthStart, PassTargets};
 use crate::error::Result;
 use crate::mesh::PlacedMesh;

@@ -5,8 +5,9 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use super::forward::{COLOR_FORMAT, DEPTH_FORMAT};
+use super::forward::COLOR_FORMAT;
 use super::passes::PassTargets;
+use super::passes::DEPTH_FORMAT;
 use crate::error::Result;
 use crate::vulkan::{Buffer, BufferDesc, Device, Image, ImageDesc};
 

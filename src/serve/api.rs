@@ -22,11 +22,11 @@ use vk_render::output::png_bytes;
 use vk_render::scene::overridden;
 use vk_render::{Renderer, Scene};
 
+use super::app::App;
 use super::catalogue::{is_id, Entry};
 use super::error::ApiError;
 use super::limits::overrides;
 use super::workers::Lane;
-use super::App;
 use vk_render::files::shortened;
 
 /// The largest JSON body a request other than a check may send.

@@ -14,7 +14,13 @@ use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use subtle::ConstantTimeEq;
 
-use super::pages;
+/// The sign-in page (src/serve/pages/signin.html).
+const SIGN_IN: &str = include_str!("pages/signin.html");
+
+/// The sign-in page, with `status` (200 when asked for, 401 in place of a page the token guards).
+pub fn sign_in(status: StatusCode) -> Response {
+    (status, [(header::CONTENT_TYPE, "text/html; charset=utf-8")], SIGN_IN).into_response()
+}
 
 /// The cookie a signed-in browser holds.
 pub const SESSION_COOKIE: &str = "vk_render_session";
@@ -134,7 +140,7 @@ pub async fn require(State(access): State<Option<Arc<Access>>>, request: Request
         response.headers_mut().insert(header::WWW_AUTHENTICATE, header::HeaderValue::from_static("Bearer"));
         return response;
     }
-    let mut response = pages::sign_in(StatusCode::UNAUTHORIZED);
+    let mut response = sign_in(StatusCode::UNAUTHORIZED);
     response.headers_mut().insert(header::WWW_AUTHENTICATE, header::HeaderValue::from_static("Bearer"));
     response
 }

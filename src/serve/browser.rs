@@ -6,14 +6,11 @@
 //! computes what its controls change (the camera's matrices, the lights, the materials' parameters) and
 //! draws; the server only hands out these files.
 
-use std::collections::{BTreeMap, HashMap};
-use std::sync::{Arc, LazyLock, Mutex};
+use std::collections::BTreeMap;
+use std::sync::LazyLock;
 
-use axum::body::Bytes;
-use axum::extract::{Query, State};
-use axum::http::{header, StatusCode};
-use axum::response::{IntoResponse, Response};
-use serde::{Deserialize, Serialize};
+use axum::http::StatusCode;
+use serde::Serialize;
 use serde_json::{json, Value as Json};
 
 use vk_render::brdf::Brdf;
@@ -28,26 +25,14 @@ use vk_render::Scene;
 
 use super::catalogue::Entry;
 use super::error::ApiError;
-use super::App;
 
 /// The browser's shaders: (entry file under shaders/, its GLSL ES 3.00), made by build.rs.
 const SHADERS: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/webgl.rs"));
-
-/// `GET /static/shaders.json`: every translated shader by its entry file's name, one JSON object.
-pub async fn shaders() -> Response {
-    json_file(shaders_file())
-}
 
 /// Every translated shader by its entry file's name, one JSON object, as `GET /static/shaders.json` hands it out.
 pub fn shaders_file() -> &'static str {
     static TEXT: LazyLock<String> = LazyLock::new(|| table_json(SHADERS));
     TEXT.as_str()
-}
-
-/// `GET /static/brdf-templates.json`: the analytic templates of the editor, by entry, one JSON object (fetched
-/// when a student's model is first compiled: most visits never need it).
-pub async fn templates() -> Response {
-    json_file(templates_file())
 }
 
 /// The analytic templates by entry, as `GET /static/brdf-templates.json` hands them out.
@@ -59,10 +44,6 @@ pub fn templates_file() -> &'static str {
 fn table_json(table: &[(&str, &str)]) -> String {
     let table: BTreeMap<&str, &str> = table.iter().copied().collect();
     serde_json::to_string(&table).unwrap_or_default()
-}
-
-fn json_file(text: &'static str) -> Response {
-    ([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "no-cache")], text).into_response()
 }
 
 /// A scene as the browser draws it (`GET /api/scenes`, each scene's `browser`).
@@ -259,81 +240,9 @@ pub fn describe(entry: &Entry) -> BrowserScene {
     }
 }
 
-/// The browser's files that are made from the catalogue (a mesh's vertices, a measured table's floats), each
-/// made once, on a blocking thread, by the first request for it, and shared by every request after it (and by
-/// those waiting for it): their memory is bounded by the catalogue, not by how many ask at once. Only keys
-/// of the catalogue's own objects and materials get here.
-#[derive(Default)]
-pub struct Files(Mutex<HashMap<String, Arc<tokio::sync::OnceCell<Bytes>>>>);
-
-impl Files {
-    async fn get(
-        &self,
-        key: String,
-        make: impl FnOnce() -> Result<Vec<u8>, ApiError> + Send + 'static,
-    ) -> Result<Bytes, ApiError> {
-        let cell = self.0.lock().unwrap_or_else(|p| p.into_inner()).entry(key).or_default().clone();
-        cell.get_or_try_init(|| async {
-            tokio::task::spawn_blocking(make)
-                .await
-                .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("the file's task failed: {e}")))?
-                .map(Bytes::from)
-        })
-        .await
-        .cloned()
-    }
-}
-
-fn binary(bytes: Bytes) -> Response {
-    ([(header::CONTENT_TYPE, "application/octet-stream"), (header::CACHE_CONTROL, "max-age=3600")], bytes)
-        .into_response()
-}
-
-fn no_scene(id: &str) -> ApiError {
-    ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: no such scene", vk_render::files::shortened(id)))
-}
-
-/// The 404 of a request for a `kind` material (measured, analytic) that `entry`'s scene has not by that name.
-fn no_material(entry: &Entry, name: &str, kind: &str) -> ApiError {
-    ApiError::new(
-        StatusCode::NOT_FOUND,
-        format!("scene {}: material {}: no {kind} material of that name", entry.id, vk_render::files::shortened(name)),
-    )
-}
-
-#[derive(Deserialize)]
-pub struct MeshQuery {
-    scene: String,
-    object: usize,
-    /// The lighter mesh of the motion frames, where the object has one (its `motion_mesh`).
-    #[serde(default)]
-    motion: bool,
-}
-
-/// `GET /api/mesh?scene=ID&object=N`: the vertices and triangles the renderer draws for that object (a
-/// sphere's bounding mesh, the plane's fan to infinity, an OBJ's mesh), little-endian: the vertex count and
-/// the index count (u32 each), then each vertex's position (4 floats, homogeneous), normal (3) and tangent
-/// (3), then the indices (u32). With `motion=true`, the lighter mesh of its motion frames (404 where it has
-/// none).
-pub async fn mesh(State(app): State<Arc<App>>, Query(query): Query<MeshQuery>) -> Result<Response, ApiError> {
-    let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
-    let object = query.object;
-    if object >= entry.scene.objects.len() {
-        return Err(ApiError::new(
-            StatusCode::NOT_FOUND,
-            format!("scene {}: object {object}: no such object", entry.id),
-        ));
-    }
-    let scene = entry.scene.clone();
-    let (id, motion) = (entry.id.clone(), query.motion);
-    let key = format!("mesh {} {object} {motion}", entry.id);
-    let bytes = app.browser_files.get(key, move || mesh_file(&id, &scene, object, motion)).await?;
-    Ok(binary(bytes))
-}
-
 /// Object `object`'s mesh of scene `id` as `GET /api/mesh` hands it out (an OBJ read from disk), or its
 /// lighter mesh of the motion frames.
-fn mesh_file(id: &str, scene: &Scene, object: usize, motion: bool) -> Result<Vec<u8>, ApiError> {
+pub fn mesh_file(id: &str, scene: &Scene, object: usize, motion: bool) -> Result<Vec<u8>, ApiError> {
     let placed = vk_render::mesh::place_objects(scene).map_err(|e| ApiError::from_library(&e))?;
     let mesh = &placed[object].mesh;
     if !motion {
@@ -361,42 +270,9 @@ pub fn mesh_bytes(mesh: &Mesh) -> Vec<u8> {
     bytes
 }
 
-#[derive(Deserialize)]
-pub struct TableQuery {
-    scene: String,
-    material: String,
-}
-
-/// `GET /api/measured?scene=ID&material=NAME`: a measured material's table as the renderer holds it (f_r of
-/// every entry, red, green and blue interleaved, in the MERL file's order; float32, little-endian), which the
-/// page uploads as a float texture (shaders/brdf/measured.glsl, `measured_texel`).
-pub async fn measured(State(app): State<Arc<App>>, Query(query): Query<TableQuery>) -> Result<Response, ApiError> {
-    let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
-    let Some(Brdf::Measured(table)) = entry.scene.materials.get(&query.material).cloned() else {
-        return Err(no_material(entry, &query.material, "measured"));
-    };
-    let key = format!("measured {} {}", entry.id, query.material);
-    let bytes = app.browser_files.get(key, move || Ok(measured_file(&table))).await?;
-    Ok(binary(bytes))
-}
-
 /// A measured material's table as `GET /api/measured` hands it out.
 pub fn measured_file(table: &vk_render::brdf::Measured) -> Vec<u8> {
     table.table().rgb.iter().flat_map(|v| v.to_le_bytes()).collect()
-}
-
-/// `GET /api/analytic?scene=ID&material=NAME`: an analytic material's browser shaders (the forward passes'
-/// entries and variants with its model: vk_render::webgl::analytic_shaders), one JSON object by entry name,
-/// translated once per model and kept; the page compiles them as it does /static/shaders.json's.
-pub async fn analytic(State(app): State<Arc<App>>, Query(query): Query<TableQuery>) -> Result<Response, ApiError> {
-    let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
-    let Some(Brdf::Analytic(material)) = entry.scene.materials.get(&query.material) else {
-        return Err(no_material(entry, &query.material, "analytic"));
-    };
-    let model = material.model().clone();
-    let key = format!("analytic {:016x}", model.key());
-    let bytes = app.browser_files.get(key, move || analytic_file(&model)).await?;
-    Ok(([(header::CONTENT_TYPE, "application/json"), (header::CACHE_CONTROL, "max-age=3600")], bytes).into_response())
 }
 
 /// A `.brdf` model's browser shaders as `GET /api/analytic` hands them out (a JSON object by entry name).
@@ -404,26 +280,6 @@ pub fn analytic_file(model: &vk_render::brdf::AnalyticModel) -> Result<Vec<u8>, 
     let failed = |e: String| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("{}: {e}", model.name()));
     let shaders = vk_render::webgl::analytic_shaders(model, &Default::default()).map_err(|e| failed(e.to_string()))?;
     serde_json::to_vec(&shaders).map_err(|e| failed(e.to_string()))
-}
-
-#[derive(Deserialize)]
-pub struct SceneQuery {
-    scene: String,
-}
-
-/// `GET /api/environment?scene=ID`: the scene's environment as the renderer uploads it, little-endian: the
-/// map's width and height, the prefiltered layers' width, height and count (u32 each), then the map's texels
-/// and the layers' (RGB float32 each, rows from the top; src/environment/prefilter.rs), which the page uploads
-/// as float textures (common/environment_map.glsl, common/environment.glsl). Made once per scene.
-pub async fn environment(State(app): State<Arc<App>>, Query(query): Query<SceneQuery>) -> Result<Response, ApiError> {
-    let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;
-    let Some(environment) = entry.scene.environment.clone() else {
-        return Err(ApiError::new(StatusCode::NOT_FOUND, format!("scene {}: it has no environment", entry.id)));
-    };
-    let scene = entry.scene.clone();
-    let key = format!("environment {}", entry.id);
-    let bytes = app.browser_files.get(key, move || environment_file(&scene, &environment)).await?;
-    Ok(binary(bytes))
 }
 
 /// A scene's environment as `GET /api/environment` hands it out (a map file read from disk).

@@ -20,12 +20,12 @@ use vk_render::report::Difference;
 use vk_render::{Override, Renderer, Scene};
 
 use super::api::{entry, json_object, scene_error};
+use super::app::App;
 use super::catalogue::{Catalogue, Entry};
 use super::error::ApiError;
 use super::limits::{decoding_limits, overrides, Limits, Upload};
 use super::reports::{new_id, Report};
 use super::workers::Lane;
-use super::App;
 use vk_render::files::shortened;
 
 /// A report's pictures: name and PNG bytes.

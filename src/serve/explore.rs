@@ -20,9 +20,9 @@ use tokio::sync::watch;
 use vk_render::frames::motion_scene;
 
 use super::api::{json_object, rendered_png, requested_scene};
+use super::app::App;
 use super::error::ApiError;
 use super::workers::Lane;
-use super::App;
 
 /// How long the controls must rest before the still frame is rendered.
 pub const SETTLE: Duration = Duration::from_millis(150);

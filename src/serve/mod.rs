@@ -6,17 +6,20 @@
 //! page for a course's staff, docs/serve.md.
 
 mod api;
+mod app;
 mod auth;
 mod browser;
+mod cache;
 mod catalogue;
 mod check;
+mod description;
+mod downloads;
 mod error;
 mod explore;
 mod limits;
 mod pages;
 mod reports;
 pub mod site;
-mod site_check;
 mod workers;
 
 use std::net::SocketAddr;
@@ -41,6 +44,7 @@ use tower_http::timeout::RequestBodyTimeoutLayer;
 
 use vk_render::RendererOptions;
 
+use app::App;
 use auth::Access;
 use catalogue::Catalogue;
 use limits::Limits;
@@ -109,22 +113,6 @@ impl Bounds {
     pub const REPORT_BYTES: usize = 256 << 20;
 }
 
-/// What every handler shares.
-pub struct App {
-    catalogue: Catalogue,
-    /// `GET /api/scenes`'s answer, made at start.
-    described: String,
-    /// The browser's meshes and measured tables, each made once.
-    browser_files: browser::Files,
-    workers: Workers,
-    worker_count: usize,
-    reports: Reports,
-    limits: Limits,
-    access: Option<Arc<Access>>,
-    /// Becomes true on SIGTERM or Ctrl-C: the explore sockets close.
-    stopping: watch::Receiver<bool>,
-}
-
 /// Serves until SIGTERM or Ctrl-C, then answers the requests in flight and returns.
 pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
     let access = Access::from_file_or_environment(args.token_file.as_deref())?;
@@ -136,7 +124,7 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
         );
     }
     let catalogue = Catalogue::new(&args.scenes)?;
-    let described = serde_json::to_string(&catalogue.describe())?;
+    let described = serde_json::to_string(&description::describe(&catalogue))?;
     let limits = Limits {
         max_upload: args.max_upload_mib as usize * (1 << 20),
         header_timeout: Duration::from_secs(u64::from(args.header_timeout)),
@@ -151,7 +139,7 @@ pub fn run(args: ServeArgs, options: RendererOptions) -> anyhow::Result<()> {
     let app = Arc::new(App {
         catalogue,
         described,
-        browser_files: browser::Files::default(),
+        browser_files: cache::Files::default(),
         workers,
         worker_count: usize::from(args.workers),
         reports: Reports::new(
@@ -186,8 +174,8 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .route("/check.html", get(pages::check))
         .route("/reports/{id}", get(pages::report))
         .route("/signin", get(pages::sign_in_query).post(pages::sign_in_form))
-        .route("/static/shaders.json", get(browser::shaders))
-        .route("/static/brdf-templates.json", get(browser::templates))
+        .route("/static/shaders.json", get(downloads::shaders))
+        .route("/static/brdf-templates.json", get(downloads::templates))
         .route("/static/{name}", get(pages::asset));
     let json_api = Router::new()
         .route("/api/scenes", get(api::scenes))
@@ -199,10 +187,10 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .route("/api/reports/{id}", get(api::report))
         .route("/api/reports/{id}/{picture}", get(api::report_picture))
         .route("/api/explore", get(explore::explore))
-        .route("/api/mesh", get(browser::mesh))
-        .route("/api/measured", get(browser::measured))
-        .route("/api/analytic", get(browser::analytic))
-        .route("/api/environment", get(browser::environment))
+        .route("/api/mesh", get(downloads::mesh))
+        .route("/api/measured", get(downloads::measured))
+        .route("/api/analytic", get(downloads::analytic))
+        .route("/api/environment", get(downloads::environment))
         .route("/api/environment-albedo", post(api::environment_albedo))
         .layer(DefaultBodyLimit::max(api::MAX_JSON_BYTES));
     // The form's own overhead beside the image: its boundaries, headers and the scene's id.

@@ -9,8 +9,8 @@ use axum::response::{IntoResponse, Redirect, Response};
 use axum::Form;
 use serde::Deserialize;
 
-use super::auth::{Access, SESSION_COOKIE};
-use super::App;
+use super::app::App;
+use super::auth::{sign_in, Access, SESSION_COOKIE};
 
 /// One embedded file: its path under /static/, its type and its bytes. `vk-render.wasm` is the library's
 /// code the editor and a site's check page run (web/, built for WebAssembly by build.rs).
@@ -43,7 +43,6 @@ const INDEX: &str = include_str!("pages/index.html");
 const EXPLORE: &str = include_str!("pages/explore.html");
 const CHECK: &str = include_str!("pages/check.html");
 const REPORT: &str = include_str!("pages/report.html");
-const SIGN_IN: &str = include_str!("pages/signin.html");
 
 /// The Content-Security-Policy of every answer: nothing but this server's own scripts, styles and
 /// connections (no inline script; WebAssembly compiled from the server's own `vk-render.wasm`, which
@@ -75,11 +74,6 @@ pub async fn report() -> Response {
     let mut response = html(StatusCode::OK, REPORT);
     response.headers_mut().insert(header::CACHE_CONTROL, HeaderValue::from_static("no-store"));
     response
-}
-
-/// The sign-in page, with `status` (200 when asked for, 401 in place of a page the token guards).
-pub fn sign_in(status: StatusCode) -> Response {
-    html(status, SIGN_IN)
 }
 
 /// `GET /static/NAME`.

@@ -1,5 +1,5 @@
 //! The check of a student's image in the browser: a `vk-render site` folder's check page hands over a
-//! figure's renders (the exact image and each mistake's, made at `site` time: src/serve/site_check.rs) and
+//! figure's renders (the exact image and each mistake's, made at `site` time: src/serve/site/check.rs) and
 //! the student's file; the verdict, the mistakes, the statistics and the map of differences come from the
 //! rules `vk-render check` decides by (crates/check-rules), so that the page and the program cannot differ
 //! by a rule. The image stays in this page's memory.

@@ -62,14 +62,6 @@ const WEIGHTS: [f64; 6] = [
     0.171_324_492_379_170_3,
 ];
 
-/// A direction's (cos θ, φ) about +z, cos θ exact near the poles (see the module's notes).
-pub fn coordinates(d: DVec3) -> (f64, f64) {
-    let d = d.normalize();
-    let across = d.x * d.x + d.y * d.y;
-    let cos_theta = if d.z.abs() > 0.5 { d.z.signum() * (1.0 - across / (1.0 + d.z.abs())) } else { d.z };
-    (cos_theta, d.y.atan2(d.x))
-}
-
 /// The unit direction at (cos θ, φ), sin θ exact near the poles.
 fn direction(cos_theta: f64, phi: f64) -> DVec3 {
     let sin_theta = ((1.0 - cos_theta) * (1.0 + cos_theta)).max(0.0).sqrt();
@@ -249,7 +241,7 @@ fn largest_bounds(mut candidates: Vec<(usize, f64)>, tolerance: f64, chosen: &mu
 }
 
 /// Integrates the density and f_r cos θi over every cell of `grid`, `evaluate` giving both at a batch of
-/// directions; `samples` are the (cos θ, φ) of the samples drawn (by [`coordinates`]), `total` how many were
+/// directions; `samples` are the (cos θ, φ) of the samples drawn (by [`coordinates`](crate::analysis::chi2::coordinates)), `total` how many were
 /// drawn (no sample included), which set the tolerances on the counts expected.
 ///
 /// # Errors
@@ -359,6 +351,7 @@ mod tests {
     use std::f64::consts::PI;
 
     use super::*;
+    use crate::analysis::chi2::coordinates;
 
     const GRID: SphereGrid = SphereGrid { cos_bins: 20, phi_bins: 40 };
 

@@ -17,9 +17,9 @@ pub mod report;
 
 use glam::{DVec3, Vec3};
 
-use self::cubature::{coordinates, integrate_cells, CellIntegrals, Integrand};
+use self::cubature::{integrate_cells, CellIntegrals, Integrand};
 use self::reciprocity::Reciprocity;
-use super::chi2::{chi_square, gamma_q, sidak_level, ChiSquare, SphereGrid};
+use super::chi2::{chi_square, coordinates, gamma_q, sidak_level, ChiSquare, SphereGrid};
 use crate::brdf::Brdf;
 use crate::error::Result;
 use crate::render::{BrdfSample, ProbeCase, Renderer};

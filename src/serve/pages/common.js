@@ -3,7 +3,7 @@
 "use strict";
 
 // The address of a piece of a scene's data: the API's under `vk-render serve`; in a folder `vk-render site`
-// wrote, the file it wrote for it (src/serve/site.rs names them so), relative to the page. `kind` is the
+// wrote, the file it wrote for it (src/serve/site/mod.rs names them so), relative to the page. `kind` is the
 // API's route (scenes, mesh, measured, analytic, environment, environment-albedo); a material is named by
 // the number the folder's scene list gives it.
 function dataUrl(kind, scene, query = {}) {

@@ -174,7 +174,7 @@ function compileLog(gl, text) {
 }
 
 // `scene` with object `index` made of the student's model at its defaults, as the server describes an
-// analytic material (catalogue.rs, browser.rs): its controls, and its values as the renderer's buffer holds them.
+// analytic material (description.rs, browser.rs): its controls, and its values as the renderer's buffer holds them.
 // The objects of a model drawn before take the new one, which replaces it (and the page's overrides of it go).
 function withStudentModel(scene, index, model) {
   const derived = JSON.parse(JSON.stringify(scene));

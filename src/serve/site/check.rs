@@ -14,8 +14,8 @@ use vk_render::check::render_candidates;
 use vk_render::output::png_bytes;
 use vk_render::Renderer;
 
-use super::catalogue::Catalogue;
-use super::site::put;
+use super::folder::put;
+use crate::serve::catalogue::Catalogue;
 
 /// Writes `data/check/` into `folder`.
 pub fn write(folder: &Path, catalogue: &Catalogue, renderer: &mut Renderer) -> anyhow::Result<()> {

@@ -4,7 +4,7 @@
 //! translated shaders, and in `data/` what the API would answer for each catalogue scene, written once: the
 //! scene list, each object's mesh, each measured table, each `.brdf` model's shaders, each environment and
 //! each material's albedo table at the scene's own values (src/serve/pages/common.js's `dataUrl` names them),
-//! and in `data/check/` the renders the check page decides with (src/serve/site_check.rs).
+//! and in `data/check/` the renders the check page decides with (src/serve/site/check.rs).
 //! Every link is relative, so the folder works from any sub-path.
 
 use std::collections::hash_map::{Entry as Slot, HashMap};
@@ -20,7 +20,12 @@ use vk_render::{Renderer, RendererOptions};
 
 use super::catalogue::{Catalogue, Entry};
 use super::error::ApiError;
-use super::{api, browser, pages, site_check};
+use super::{api, browser, description, pages};
+
+mod check;
+mod folder;
+
+use folder::put;
 
 #[derive(Args)]
 pub struct SiteArgs {
@@ -91,14 +96,6 @@ fn size(folder: &Path) -> anyhow::Result<(usize, u64)> {
     Ok(total)
 }
 
-pub(super) fn put(folder: &Path, name: &str, bytes: &[u8]) -> anyhow::Result<()> {
-    let path = folder.join(name);
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).with_context(|| format!("{}: cannot make the folder", parent.display()))?;
-    }
-    std::fs::write(&path, bytes).with_context(|| format!("{}: cannot write it", path.display()))
-}
-
 fn failed(entry: &Entry, error: ApiError) -> anyhow::Error {
     anyhow::anyhow!("scene {}: {}", entry.id, error.message)
 }
@@ -111,7 +108,7 @@ fn write(folder: &Path, catalogue: &Catalogue, options: RendererOptions) -> anyh
     put(folder, "static/site.js", SITE_SCRIPT.as_bytes())?;
     put(folder, "static/shaders.json", browser::shaders_file().as_bytes())?;
     put(folder, "static/brdf-templates.json", browser::templates_file().as_bytes())?;
-    let mut scenes = serde_json::to_value(catalogue.describe())?;
+    let mut scenes = serde_json::to_value(description::describe(catalogue))?;
     let mut renderer = None;
     // Each `.brdf` model translated once, whichever scenes and materials name it (a second of work each).
     let mut translated: HashMap<u64, Vec<u8>> = HashMap::new();
@@ -163,5 +160,5 @@ fn write(folder: &Path, catalogue: &Catalogue, options: RendererOptions) -> anyh
         Some(renderer) => renderer,
         None => renderer.insert(Renderer::new(options)?),
     };
-    site_check::write(folder, catalogue, renderer)
+    check::write(folder, catalogue, renderer)
 }
