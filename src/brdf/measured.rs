@@ -176,7 +176,7 @@ impl MeasuredTable {
     pub fn sampler(&self) -> &[f32] {
         self.sampler.get_or_init(|| match self.anisotropic {
             Some(_) => vec![0.0; super::measured_sampler::SAMPLER_FLOATS],
-            None => super::measured_sampler::sampler(self),
+            None => super::measured_sampler::sampler(|wi, wo| self.eval(Vec3::Z, wi, wo)),
         })
     }
 

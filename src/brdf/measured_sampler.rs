@@ -21,8 +21,6 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DVec3, Vec3};
 
-use super::measured::MeasuredTable;
-
 /// The view elevations tabulated: theta_o = k 90 / (VIEWS - 1) degrees.
 pub const VIEWS: usize = 32;
 /// Intervals between the grid's rows of nodes: row r at theta_h = 90 (r / ROWS)^2 degrees.
@@ -58,7 +56,7 @@ fn half_vector(x: f64, phi: f64) -> DVec3 {
 /// The integrand over half vectors: f_r cos(theta_i) times the reflection's Jacobian 4 (wo . h) (so that a
 /// density in proportion to it is one in proportion to f_r cos(theta_i) over wi), the luminance of f_r; zero
 /// where the reflected direction is not above the surface.
-fn integrand(table: &MeasuredTable, wo: DVec3, h: DVec3) -> f64 {
+fn integrand(f_r: &impl Fn(Vec3, Vec3) -> Vec3, wo: DVec3, h: DVec3) -> f64 {
     let wo_h = wo.dot(h);
     if wo_h <= 0.0 {
         return 0.0;
@@ -67,7 +65,7 @@ fn integrand(table: &MeasuredTable, wo: DVec3, h: DVec3) -> f64 {
     if wi.z <= 0.0 {
         return 0.0;
     }
-    let f = table.eval(Vec3::Z, wi.as_vec3().normalize(), wo.as_vec3());
+    let f = f_r(wi.as_vec3().normalize(), wo.as_vec3());
     // Rec. 709's luminance, as the renderer's own samplers weigh colours.
     let luminance = f64::from(f.dot(Vec3::new(0.2126, 0.7152, 0.0722)));
     luminance.max(0.0) * wi.z * 4.0 * wo_h
@@ -99,13 +97,14 @@ fn view_distribution(nodes: &[f64]) -> Vec<f32> {
     floats
 }
 
-/// The sampler of `table`: [`SAMPLER_FLOATS`] floats, view after view, in the layout that
-/// `shaders/brdf/measured_sampler.glsl` reads.
-pub fn sampler(table: &MeasuredTable) -> Vec<f32> {
+/// The sampler of a table whose f_r(wi, wo) about the normal +z is `f_r` (the table's evaluation, which
+/// makes its sampler on first use: [`super::measured::MeasuredTable::sampler`]): [`SAMPLER_FLOATS`] floats,
+/// view after view, in the layout that `shaders/brdf/measured_sampler.glsl` reads.
+pub fn sampler(f_r: impl Fn(Vec3, Vec3) -> Vec3 + Sync) -> Vec<f32> {
     let nodes = crate::parallel::rows((VIEWS * (ROWS + 1)) as u32, |i| {
         let (k, r) = (i as usize / (ROWS + 1), i as usize % (ROWS + 1));
         (0..=COLUMNS)
-            .map(|j| integrand(table, view(k), half_vector(row_edge(r), j as f64 * PI / COLUMNS as f64)))
+            .map(|j| integrand(&f_r, view(k), half_vector(row_edge(r), j as f64 * PI / COLUMNS as f64)))
             .collect()
     });
     nodes.chunks_exact((ROWS + 1) * (COLUMNS + 1)).flat_map(view_distribution).collect()
@@ -114,8 +113,6 @@ pub fn sampler(table: &MeasuredTable) -> Vec<f32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::brdf::measured::tests::table_of;
-    use crate::brdf::measured::ENTRIES;
 
     /// Where view `k`'s row interval probabilities and its nodes' densities begin.
     fn probabilities(k: usize) -> usize {
@@ -143,7 +140,7 @@ mod tests {
         // reflects above the surface), whatever phi_h. With x = 1 - cos(theta_h), c = 1 - x, that is
         // 4 c (2 c^2 - 1), whose integral over x from 0 to 1 - cos 45 degrees is 1/2, over phi_h 2 pi: the
         // density is 4 c (2 c^2 - 1) / pi.
-        let floats = sampler(&table_of(|_, _, _| 1.0));
+        let floats = sampler(|_, _| Vec3::ONE);
         for r in [0, 10, 40, 62] {
             let c = 1.0 - row_edge(r);
             let expected = 4.0 * c * (2.0 * c * c - 1.0) / PI;
@@ -163,12 +160,12 @@ mod tests {
 
     #[test]
     fn a_grazing_view_draws_towards_itself_and_nothing_from_a_table_that_measures_nothing() {
-        let floats = sampler(&table_of(|_, _, _| 1.0));
+        let floats = sampler(|_, _| Vec3::ONE);
         // At 90 degrees the view only reflects above the surface about half vectors leaning its way
         // (phi_h < 90 degrees).
         assert!(floats[node(VIEWS - 1, 40, 0)] > 0.0);
         assert_eq!(floats[node(VIEWS - 1, 40, COLUMNS)], 0.0);
-        let nothing = sampler(&MeasuredTable::new("nothing".into(), vec![-1.0; 3 * ENTRIES]));
+        let nothing = sampler(|_, _| Vec3::ZERO);
         assert!(nothing.iter().all(|&v| v == 0.0));
     }
 
