@@ -50,7 +50,7 @@ fn smith_k_from_alpha_instead_of_roughness_fails() {
     let c = compare_mutant(
         "brdf/cook_torrance.glsl",
         "v_smith_schlick(NoV, NoL, smith_schlick_k(roughness))",
-        "v_smith_schlick(NoV, NoL, smith_schlick_k(alpha))",
+        "v_smith_schlick(NoV, NoL, smith_schlick_k(ggx_alpha(roughness)))",
         &test_scene("side-light-metal.toml"),
     );
     assert!(!acceptable(&c), "the mutant passed: {c}");

@@ -246,15 +246,15 @@ fn mutants() -> Vec<Mutant> {
     vec![
         Mutant {
             name: "the half vector's Jacobian 1 / (4 wo.h) dropped",
-            file: "common/sampling.glsl",
-            from: "return cosine_power_pdf(n, m.shininess, h) / (4.0 * WoH);",
-            to: "return cosine_power_pdf(n, m.shininess, h);",
+            file: "brdf/blinn_phong.glsl",
+            from: "return cosine_power_pdf(n, shininess, h) / (4.0 * WoH);",
+            to: "return cosine_power_pdf(n, shininess, h);",
             brdf: blinn_plastic(16.0),
             caught_by: "chi-square",
         },
         Mutant {
             name: "GGX's D (n.h) where the visible normals' density belongs",
-            file: "common/sampling.glsl",
+            file: "brdf/cook_torrance.glsl",
             from: "ggx_g1(NoV, alpha) * d_ggx(n, h, alpha) / (4.0 * NoV)",
             to: "d_ggx(n, h, alpha) * dot(n, h) / (4.0 * WoH)",
             brdf: gold(0.3, 1.0),
@@ -262,7 +262,7 @@ fn mutants() -> Vec<Mutant> {
         },
         Mutant {
             name: "a Phong exponent off by one in the sampler",
-            file: "common/sampling.glsl",
+            file: "common/warp.glsl",
             from: "float log_u = log(u.x) / (s + 1.0);",
             to: "float log_u = log(u.x) / (s + 2.0);",
             brdf: plastic(16.0),

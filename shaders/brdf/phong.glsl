@@ -4,6 +4,7 @@
 // Mirrored by src/brdf/phong.rs.
 
 #include "brdf/lambert.glsl"
+#include "common/warp.glsl"
 
 // The smallest cos(theta_i) the specular lobes divide by: keeps f finite at grazing incidence, where the
 // integrand lobe * cos(theta_i) then fades to 0 over the last 1e-6 of the cosine.
@@ -36,6 +37,17 @@ vec3 phong_specular(vec3 n, vec3 wi, vec3 wo, vec3 ks, float shininess) {
 // The course's plastic: Lambert(kd) + Phong specular(ks, s).
 vec3 phong(vec3 n, vec3 wi, vec3 wo, vec3 kd, vec3 ks, float shininess) {
     return lambert(kd) + phong_specular(n, wi, wo, ks, shininess);
+}
+
+// Its sampler: the lobe times cos(theta_i) is ks (wo . r)^s exactly, r the mirror of wi, so wi is drawn from
+// the cosine-power lobe about the mirror of wo (Lafortune and Willems 1994).
+vec3 phong_sample(vec3 n, vec3 wo, float shininess, vec2 u) {
+    return cosine_power_sample(mirror(n, wo), shininess, u);
+}
+
+// The density of phong_sample drawing wi.
+float phong_pdf(vec3 n, vec3 wi, vec3 wo, float shininess) {
+    return cosine_power_pdf(mirror(n, wo), shininess, wi);
 }
 
 #endif

@@ -208,7 +208,7 @@ float lobe_exponent(Material m) {
         case BRDF_BLINN_PHONG:
             return m.shininess / 4.0;
         default: {
-            float alpha = max(m.roughness * m.roughness, 1e-4);
+            float alpha = max(ggx_alpha(m.roughness), 1e-4);
             return (2.0 / (alpha * alpha) - 2.0) / 4.0;
         }
     }

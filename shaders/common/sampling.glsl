@@ -2,10 +2,12 @@
 #define COMMON_SAMPLING_GLSL
 
 // Directions drawn for the exact mode's Monte Carlo integration (common/environment.glsl): the points of a
-// low-discrepancy sequence, and each model's lobe drawn in proportion to (nearly) what it reflects, with
-// the density of each draw. Mirrored, independently written, by the CPU reference (src/reference.rs).
+// low-discrepancy sequence, and the material's own sampler: its model's lobe (each model's `_sample` and
+// `_pdf` beside its evaluation, brdf/*.glsl) mixed with the cosine, with the density of each draw. Mirrored,
+// independently written, by the CPU reference (src/reference/environment.rs).
 
 #include "common/math.glsl"
+#include "common/warp.glsl"
 #include "common/brdf.glsl"
 #include "brdf/measured_sampler.glsl"
 
@@ -29,80 +31,6 @@ vec2 sequence_point(uvec2 pixel, uint stream, uint index) {
     uint seed = pcg_hash(pixel.x + pcg_hash(pixel.y + pcg_hash(stream)));
     uvec2 fixed_point = uvec2(seed, pcg_hash(seed)) + index * R2_ALPHA;
     return vec2(fixed_point >> 8u) * (1.0 / 16777216.0);
-}
-
-// A unit vector at (cos_theta, sin_theta) from `axis` and azimuth phi about it (Duff et al. 2017, "Building
-// an orthonormal basis, revisited").
-vec3 around_at(vec3 axis, float cos_theta, float sin_theta, float phi) {
-    float sign_z = axis.z >= 0.0 ? 1.0 : -1.0;
-    float a = -1.0 / (sign_z + axis.z);
-    float b = axis.x * axis.y * a;
-    vec3 tangent = vec3(1.0 + sign_z * axis.x * axis.x * a, sign_z * b, -sign_z * axis.x);
-    vec3 bitangent = vec3(b, sign_z + axis.y * axis.y * a, -axis.y);
-    return (tangent * cos(phi) + bitangent * sin(phi)) * sin_theta + axis * cos_theta;
-}
-
-// The same at cos_theta, sin_theta from it (exact enough away from the axis).
-vec3 around(vec3 axis, float cos_theta, float phi) {
-    return around_at(axis, cos_theta, sqrt(max(1.0 - cos_theta * cos_theta, 0.0)), phi);
-}
-
-// 1 - exp(x) for x <= 0, without the cancellation of 1 - exp(x) near 0 (GLSL has no expm1): its series
-// where |x| is small.
-float one_minus_exp(float x) {
-    return abs(x) < 1e-3 ? -x * (1.0 + x * (0.5 + x * (1.0 / 6.0))) : 1.0 - exp(x);
-}
-
-// Malley's method: the cosine-weighted hemisphere about n, density cos(theta) / pi.
-vec3 cosine_sample(vec3 n, vec2 u) { return around(n, sqrt(1.0 - u.x), 2.0 * PI * u.y); }
-float cosine_pdf(vec3 n, vec3 wi) { return max(dot(n, wi), 0.0) * INV_PI; }
-
-// A cosine-power lobe about `axis` (Lafortune and Willems 1994, "Using the modified Phong reflectance model
-// for physically based rendering"): density (s + 1) / (2 pi) cos^s. cos theta = u^(1 / (s + 1)); sin theta
-// from sin^2 = 1 - u^(2 / (s + 1)) without cancellation, for a sharp lobe's cos theta rounds to a few floats
-// below 1 (at s = 10^5 a float sin theta from it drew a lobe that Pearson's chi-square told apart).
-vec3 cosine_power_sample(vec3 axis, float s, vec2 u) {
-    float log_u = log(u.x) / (s + 1.0);
-    return around_at(axis, exp(log_u), sqrt(one_minus_exp(2.0 * log_u)), 2.0 * PI * u.y);
-}
-// Its density at w. cos^s as exp(s ln cos), ln cos = ln(1 - sin^2) / 2 by its series near the axis, sin^2 =
-// |axis x w|^2: a sharp lobe lies where the float cos rounds to a few values below 1, and pow(cos, s) of them
-// was a staircase whose integral missed 1 by 4% at s = 10^7.
-float cosine_power_pdf(vec3 axis, float s, vec3 w) {
-    float cos_theta = dot(axis, w);
-    if (cos_theta <= 0.0) {
-        return 0.0;
-    }
-    vec3 across = cross(axis, w);
-    float x = dot(across, across);
-    float log_cos = x < 1e-3 ? -0.5 * x * (1.0 + x * (0.5 + x * (1.0 / 3.0 + x * 0.25))) : log(cos_theta);
-    return (s + 1.0) * (0.5 * INV_PI) * exp(s * log_cos);
-}
-
-// GGX's visible normals (Heitz 2018, "Sampling the GGX distribution of visible normals"): half vectors
-// in proportion to G1(wo) max(0, wo . h) D(h) / (n . wo), so that a sample's weight f cos / pdf is nearly
-// F alone, even at grazing views. Drawn as Dupuy and Benyoub 2023 draw them ("Sampling visible GGX normals
-// with spherical caps"): in the view stretched to alpha = 1 (v), a point of the unit sphere's cap z >= -v.z
-// drawn uniformly, plus v, is a visible normal. Each term straight from u, 1 - z = u.x (1 + v.z) and
-// z + v.z = (1 - u.x)(1 + v.z), for where they are a few floats is a sharp lobe's tail: Heitz's
-// 1 - p1^2 - p2^2 there sent 10 samples in 10^6 of GGX at alpha = 10^-4 seen at 85 degrees tens of degrees
-// off, which Pearson's chi-square caught.
-vec3 ggx_visible_normal_sample(vec3 n, vec3 wo, float alpha, vec2 u) {
-    vec3 t = around(n, 0.0, 0.0);
-    vec3 b = cross(n, t);
-    vec3 v = normalize(vec3(alpha * dot(wo, t), alpha * dot(wo, b), dot(wo, n)));
-    float one_minus_z = u.x * (1.0 + v.z);
-    float sin_theta = sqrt(max(one_minus_z * (2.0 - one_minus_z), 0.0));
-    float phi = 2.0 * PI * u.y;
-    vec3 h = vec3(sin_theta * cos(phi) + v.x, sin_theta * sin(phi) + v.y, (1.0 - u.x) * (1.0 + v.z));
-    h = normalize(vec3(alpha * h.x, alpha * h.y, h.z));
-    return h.x * t + h.y * b + h.z * n;
-}
-
-// Smith's G1 for GGX (Walter et al. 2007), the visible normals' normalization.
-float ggx_g1(float NoV, float alpha) {
-    float a2 = alpha * alpha;
-    return 2.0 * NoV / (NoV + sqrt(a2 + (1.0 - a2) * NoV * NoV));
 }
 
 // Whether the material has a specular lobe to draw directions from (the fast mode prefilters it too).
@@ -135,56 +63,45 @@ bool has_sampler(Material m) {
     return has_lobe(m);
 }
 
-// A direction from the material's own sampler: about the mirror of wo for Phong (its lobe times cos is
-// (wi . r)^s exactly), a half vector for Blinn-Phong ((n . h)^s) and Cook-Torrance (GGX's visible
-// normals), reflected; a .brdf file's sampleBRDF (t its X); a measured table's half vectors, reflected.
+// A direction from the material's own sampler: its model's lobe (phong_sample, blinn_phong_sample,
+// cook_torrance_sample), a .brdf file's sampleBRDF (t its X), or a measured table's half vectors, reflected.
 vec3 lobe_sample(Material m, vec3 n, vec3 t, vec3 wo, vec2 u) {
+    switch (brdf_id(m)) {
 #ifdef ANALYTIC_HAS_SAMPLER
-    if (brdf_id(m) == BRDF_ANALYTIC) {
-        return normalize(analytic_sample(m.analytic, n, t, wo, u));
-    }
+        case BRDF_ANALYTIC:
+            return normalize(analytic_sample(m.analytic, n, t, wo, u));
 #endif
 #ifndef WEBGL
-    if (brdf_id(m) == BRDF_MEASURED) {
-        return measured_sample(m.measured, n, wo, u);
-    }
+        case BRDF_MEASURED:
+            return measured_sample(m.measured, n, wo, u);
 #endif
-    if (brdf_id(m) == BRDF_PHONG) {
-        return cosine_power_sample(mirror(n, wo), m.shininess, u);
+        case BRDF_PHONG:
+            return phong_sample(n, wo, m.shininess, u);
+        case BRDF_BLINN_PHONG:
+            return blinn_phong_sample(n, wo, m.shininess, u);
+        default:
+            return cook_torrance_sample(n, wo, m.roughness, u);
     }
-    vec3 h = brdf_id(m) == BRDF_BLINN_PHONG ? cosine_power_sample(n, m.shininess, u)
-                                        : ggx_visible_normal_sample(n, wo, m.roughness * m.roughness, u);
-    return mirror(h, wo);
 }
 
-// The density of lobe_sample drawing wi (a half vector's density over 4 (wo . h), the reflection's
-// Jacobian); a .brdf file's pdfBRDF as it gives it.
+// The density of lobe_sample drawing wi; a .brdf file's pdfBRDF as it gives it.
 float lobe_pdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
+    switch (brdf_id(m)) {
 #ifdef ANALYTIC_HAS_SAMPLER
-    if (brdf_id(m) == BRDF_ANALYTIC) {
-        return analytic_pdf(m.analytic, n, t, wi, wo);
-    }
+        case BRDF_ANALYTIC:
+            return analytic_pdf(m.analytic, n, t, wi, wo);
 #endif
 #ifndef WEBGL
-    if (brdf_id(m) == BRDF_MEASURED) {
-        return measured_sample_pdf(m.measured, n, wi, wo);
-    }
+        case BRDF_MEASURED:
+            return measured_sample_pdf(m.measured, n, wi, wo);
 #endif
-    if (brdf_id(m) == BRDF_PHONG) {
-        return cosine_power_pdf(mirror(n, wo), m.shininess, wi);
+        case BRDF_PHONG:
+            return phong_pdf(n, wi, wo, m.shininess);
+        case BRDF_BLINN_PHONG:
+            return blinn_phong_pdf(n, wi, wo, m.shininess);
+        default:
+            return cook_torrance_pdf(n, wi, wo, m.roughness);
     }
-    vec3 h = half_vector(wi, wo);
-    float WoH = dot(wo, h);
-    if (WoH <= 0.0) {
-        return 0.0;
-    }
-    if (brdf_id(m) == BRDF_BLINN_PHONG) {
-        return cosine_power_pdf(n, m.shininess, h) / (4.0 * WoH);
-    }
-    // The visible normals' density G1(wo) (wo . h) D(h) / (n . wo), over 4 (wo . h).
-    float alpha = m.roughness * m.roughness;
-    float NoV = max(dot(n, wo), 1e-6);
-    return dot(n, h) > 0.0 ? ggx_g1(NoV, alpha) * d_ggx(n, h, alpha) / (4.0 * NoV) : 0.0;
 }
 
 // A measured table's sampler is its estimate from a few points per cell: the cosine keeps a tenth of the

@@ -38,7 +38,7 @@ vec3 microfacet_term(Material m, vec3 n, vec3 wi, vec3 wo) {
     }
     vec3 h = half_vector(wi, wo);
     if (VIEW == VIEW_D) {
-        return vec3(d_ggx(n, h, m.roughness * m.roughness));
+        return vec3(d_ggx(n, h, ggx_alpha(m.roughness)));
     }
     if (VIEW == VIEW_G) {
         return vec3(g_smith_schlick(NoV, NoL, smith_schlick_k(m.roughness)));

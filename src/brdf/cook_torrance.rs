@@ -44,14 +44,19 @@ pub fn f_schlick(v_o_h: f32, f0: Vec3) -> Vec3 {
     f0 + (Vec3::ONE - f0) * (m2 * m2 * m)
 }
 
+/// GGX's alpha from the course's roughness: alpha = roughness^2 (Burley 2012's perceptual remapping, which
+/// the Unreal Engine 4 took). Mirrors `ggx_alpha` in `shaders/brdf/cook_torrance.glsl`.
+pub fn ggx_alpha(roughness: f32) -> f32 {
+    roughness * roughness
+}
+
 /// The specular lobe D F G / (4 (n.wo)(n.wi)) (Cook and Torrance 1982, "A reflectance model for computer
 /// graphics"). Needs n.wi > 0 and n.wo > 0 (checked once by `Brdf::eval`).
 pub fn cook_torrance_specular(n: Vec3, wi: Vec3, wo: Vec3, f0: Vec3, roughness: f32) -> Vec3 {
     let (n_o_l, n_o_v) = (n.dot(wi), n.dot(wo));
     let h = half_vector(wi, wo);
     let v_o_h = wo.dot(h).clamp(0.0, 1.0);
-    let alpha = roughness * roughness;
-    d_ggx(n, h, alpha) * v_smith_schlick(n_o_v, n_o_l, smith_schlick_k(roughness)) * f_schlick(v_o_h, f0)
+    d_ggx(n, h, ggx_alpha(roughness)) * v_smith_schlick(n_o_v, n_o_l, smith_schlick_k(roughness)) * f_schlick(v_o_h, f0)
 }
 
 /// f = (1 - metalness) f_diffuse + metalness f_specular, the diffuse lobe Oren-Nayar with

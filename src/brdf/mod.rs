@@ -23,7 +23,8 @@ pub use analytic::{
 };
 pub use blinn_phong::{blinn_phong, blinn_phong_specular, half_vector};
 pub use cook_torrance::{
-    cook_torrance, cook_torrance_specular, d_ggx, f_schlick, g_smith_schlick, smith_schlick_k, v_smith_schlick,
+    cook_torrance, cook_torrance_specular, d_ggx, f_schlick, g_smith_schlick, ggx_alpha, smith_schlick_k,
+    v_smith_schlick,
 };
 pub use lambert::lambert;
 pub use measured::{Measured, MeasuredTable};

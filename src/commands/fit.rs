@@ -15,7 +15,7 @@ use vk_render::analysis::fit::{
 use vk_render::analysis::image_fit::{object_of, SceneImage};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::{describe, rgb, select_materials, Channel, NamedBrdf};
-use vk_render::brdf::{Analytic, AnalyticModel, Brdf, Measured};
+use vk_render::brdf::{ggx_alpha, Analytic, AnalyticModel, Brdf, Measured};
 use vk_render::chart::{write_chart, ChartFile, LineChart, LobeChart, Series, PALETTE};
 use vk_render::check::report::read_image;
 use vk_render::export::{export, CourseMaterial, Format, EXPORTED_MODELS};
@@ -268,7 +268,7 @@ fn print_fits(target: &NamedBrdf, fits: &[(String, Fit)], theta_i: &[f64]) {
             relative(fitted)
         );
         if let (Brdf::CookTorrance { roughness, .. }, "blinn-phong" | "phong") = (&target.brdf, model.as_str()) {
-            let alpha = f64::from(*roughness * *roughness);
+            let alpha = f64::from(ggx_alpha(*roughness));
             println!(
                 "Walter et al. 2007: shininess = 2 / alpha^2 - 2 = {:.1} for alpha = roughness^2 = {alpha:.4} (that \
                  mapping is Beckmann's, and Blinn-Phong's; this lobe is GGX)",

@@ -18,7 +18,7 @@ mod pbrt;
 
 use glam::Vec3;
 
-use crate::brdf::{Brdf, DiffuseModel};
+use crate::brdf::{ggx_alpha, Brdf, DiffuseModel};
 
 /// The models exported, by their names in scene files.
 pub const EXPORTED_MODELS: [&str; 3] = ["lambert", "oren-nayar", "cook-torrance"];
@@ -109,9 +109,9 @@ impl CourseMaterial {
         }
     }
 
-    /// GGX's alpha, the roughness squared.
+    /// GGX's alpha ([`ggx_alpha`]).
     pub fn alpha(&self) -> f32 {
-        self.roughness * self.roughness
+        ggx_alpha(self.roughness)
     }
 
     /// Whether a format with one base colour for its diffuse and its metal lobes (glTF, Standard Surface,
