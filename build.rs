@@ -163,7 +163,8 @@ fn embed_shaders() {
 /// built-in tables: 80 ms of a 250 ms `vk-render render` on lavapipe). glslc is shaderc's own command, of
 /// the same Debian source as the library the run-time compiler links; it runs in shaders/ with the run-time
 /// compiler's options (ShaderCompiler::compile: Vulkan 1.3, SPIR-V 1.5, no debug info; includes beside the
-/// including file, then from shaders/), and a test checks that both give the same words.
+/// including file, then from shaders/, then `double/FILE` as FILE made double: [`write_double_shaders`]),
+/// and a test checks that both give the same words.
 fn compile_shaders() {
     println!("cargo:rerun-if-env-changed=GLSLC");
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
@@ -172,6 +173,7 @@ fn compile_shaders() {
     webgl::collect(&root, &mut files);
     files.sort();
     let glslc = std::env::var("GLSLC").unwrap_or_else(|_| "glslc".into());
+    let doubles = write_double_shaders(&root, &files, &out);
     let mut table = String::from("&[\n");
     for file in &files {
         let relative = file.strip_prefix(&root).expect("under shaders/").to_string_lossy().replace('\\', "/");
@@ -191,7 +193,7 @@ fn compile_shaders() {
             let spirv = out.join(format!("{entry}.spv"));
             std::fs::create_dir_all(spirv.parent().expect("a file has a folder")).expect("OUT_DIR is writable");
             let mut command = Command::new(&glslc);
-            command.current_dir(&root).args(webgl::GLSLC_OPTIONS);
+            command.current_dir(&root).args(webgl::GLSLC_OPTIONS).arg("-I").arg(&doubles);
             for name in variant.iter().flat_map(|names| names.split('+')) {
                 command.arg(format!("-D{name}"));
             }
@@ -204,6 +206,21 @@ fn compile_shaders() {
     }
     table.push_str("]\n");
     std::fs::write(out.with_extension("rs"), table).expect("OUT_DIR is writable");
+}
+
+/// Writes every `.glsl` file of `files` (under `root`) made double (brdf_file::shader_in_double) under
+/// `out`/double-includes/double/, as the run-time compiler offers `double/FILE`; returns the folder to give
+/// glslc with -I.
+fn write_double_shaders(root: &Path, files: &[PathBuf], out: &Path) -> PathBuf {
+    let includes = out.join("double-includes");
+    for file in files.iter().filter(|f| f.extension().is_some_and(|e| e == "glsl")) {
+        let relative = file.strip_prefix(root).expect("under shaders/");
+        let double = includes.join(brdf_file::DOUBLE_FOLDER).join(relative);
+        std::fs::create_dir_all(double.parent().expect("a file has a folder")).expect("OUT_DIR is writable");
+        let text = std::fs::read_to_string(file).expect("shaders/ is readable");
+        std::fs::write(&double, brdf_file::shader_in_double(&text)).expect("OUT_DIR is writable");
+    }
+    includes
 }
 
 /// Writes `$OUT_DIR/webgl.rs`: the browser's shaders (build/webgl.rs translates them), a table of each entry

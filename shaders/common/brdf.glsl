@@ -13,6 +13,9 @@
 // An analytic model (a user's .brdf file, src/brdf/analytic/) is compiled in only where ANALYTIC_BRDF is
 // defined, at run time, with brdf/analytic.glsl made from the file: one compilation per file and entry
 // shader, its pipelines specialized to BRDF_ANALYTIC. The shaders compiled at build time do not have it.
+//
+// BRDF_IN_DOUBLE: this file made double (brdf_density64.comp's built-in models) leaves the measured tables
+// out, which are looked up in float whatever evaluates them.
 
 #include "common/material.glsl"
 #include "brdf/lambert.glsl"
@@ -20,7 +23,9 @@
 #include "brdf/phong.glsl"
 #include "brdf/blinn_phong.glsl"
 #include "brdf/cook_torrance.glsl"
+#ifndef BRDF_IN_DOUBLE
 #include "brdf/measured.glsl"
+#endif
 #ifdef ANALYTIC_BRDF
 #include "common/analytic.glsl"
 #endif
@@ -90,10 +95,12 @@ vec3 brdf_eval(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
         case BRDF_COOK_TORRANCE:
             return cook_torrance(n, wi, wo, m.kd.rgb, m.f0.rgb, m.roughness, m.metalness,
                                  DIFFUSE_SPECIALIZED == BRDF_FROM_MATERIAL ? m.diffuse : DIFFUSE_SPECIALIZED);
+#ifndef BRDF_IN_DOUBLE
         case BRDF_MEASURED:
             return measured(m.measured, n, wi, wo);
         case BRDF_RGL:
             return measured_rgl(m.measured, n, t, wi, wo);
+#endif
 #ifdef ANALYTIC_BRDF
         case BRDF_ANALYTIC:
             return analytic_checked(m.analytic, n, t, wi, wo);

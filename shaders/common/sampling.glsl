@@ -4,12 +4,16 @@
 // Directions drawn for the exact mode's Monte Carlo integration (common/environment.glsl): the points of a
 // low-discrepancy sequence, and the material's own sampler: its model's lobe (each model's `_sample` and
 // `_pdf` beside its evaluation, brdf/*.glsl) mixed with the cosine, with the density of each draw. Mirrored,
-// independently written, by the CPU reference (src/reference/environment.rs).
+// independently written, by the CPU reference (src/reference/environment.rs). Made double
+// (BRDF_IN_DOUBLE, brdf_density64.comp) it leaves the measured tables' sampler out, as brdf.glsl their
+// evaluation.
 
 #include "common/math.glsl"
 #include "common/warp.glsl"
 #include "common/brdf.glsl"
+#ifndef BRDF_IN_DOUBLE
 #include "brdf/measured_sampler.glsl"
+#endif
 
 // Roberts 2018, "The unreasonable effectiveness of quasirandom sequences": point i of the R2 sequence is
 // fract(offset + i alpha), alpha = (1/g, 1/g^2) with g the plastic number (1.32471...). In 32-bit fixed
@@ -55,7 +59,7 @@ bool has_sampler(Material m) {
         return true;
     }
 #endif
-#ifndef WEBGL
+#if !defined(WEBGL) && !defined(BRDF_IN_DOUBLE)
     if (brdf_id(m) == BRDF_MEASURED) {
         return (m.measured & MEASURED_SAMPLED) != 0u;
     }
@@ -71,7 +75,7 @@ vec3 lobe_sample(Material m, vec3 n, vec3 t, vec3 wo, vec2 u) {
         case BRDF_ANALYTIC:
             return normalize(analytic_sample(m.analytic, n, t, wo, u));
 #endif
-#ifndef WEBGL
+#if !defined(WEBGL) && !defined(BRDF_IN_DOUBLE)
         case BRDF_MEASURED:
             return measured_sample(m.measured, n, wo, u);
 #endif
@@ -91,7 +95,7 @@ float lobe_pdf(Material m, vec3 n, vec3 t, vec3 wi, vec3 wo) {
         case BRDF_ANALYTIC:
             return analytic_pdf(m.analytic, n, t, wi, wo);
 #endif
-#ifndef WEBGL
+#if !defined(WEBGL) && !defined(BRDF_IN_DOUBLE)
         case BRDF_MEASURED:
             return measured_sample_pdf(m.measured, n, wi, wo);
 #endif

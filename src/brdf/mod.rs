@@ -185,6 +185,23 @@ impl Brdf {
         }
     }
 
+    /// How wide its sharpest lobe is, as GGX's alpha (about the radians of the half vector's spread): the
+    /// roughness squared for Cook-Torrance with a metal lobe, sqrt(2 / (s + 2)) for a cosine power of
+    /// exponent s (Walter et al. 2007's correspondence), 1 for a diffuse model or one whose lobe reflects
+    /// nothing; `None` for a measurement or an analytic model, which do not say.
+    pub fn lobe_width(&self) -> Option<f32> {
+        match *self {
+            Brdf::Lambert { .. } | Brdf::OrenNayar { .. } => Some(1.0),
+            Brdf::Phong { ks, shininess, .. } | Brdf::BlinnPhong { ks, shininess, .. } => {
+                Some(if ks.max_element() > 0.0 { (2.0 / (shininess + 2.0)).sqrt().min(1.0) } else { 1.0 })
+            }
+            Brdf::CookTorrance { roughness, metalness, .. } => {
+                Some(if metalness > 0.0 { cook_torrance::ggx_alpha(roughness).min(1.0) } else { 1.0 })
+            }
+            Brdf::Measured(_) | Brdf::Analytic(_) => None,
+        }
+    }
+
     /// The specular lobe of [`Brdf::eval`]; mirrors `brdf_eval_specular` in `shaders/common/brdf.glsl`.
     pub fn eval_specular(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {

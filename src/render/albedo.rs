@@ -28,24 +28,25 @@ pub fn directional_albedos(
         .iter()
         .map(|&theta| AlbedoJob { brdf: brdf.clone(), wo: Vec3::new(theta.sin() as f32, 0.0, theta.cos() as f32) })
         .collect();
+    let in_double = renderer.integrates_in_double(brdf)?;
     let mut cubature = Cubature::new(theta_o, tolerance);
     while !cubature.pending().is_empty() {
         crate::interrupt::check()?;
-        let estimates = integrate(renderer, &jobs, cubature.pending())?;
+        let estimates = integrate(renderer, &jobs, cubature.pending(), in_double)?;
         cubature.take(&estimates).expect("the probe returns one integral per cell");
     }
     Ok(cubature.albedos())
 }
 
-/// The cells' integrals from the GPU, in batches of at most [`CELLS_PER_DISPATCH`]: a `.brdf` file's in
-/// double precision where the device has doubles (its float32 GLSL may round away what a sharp lobe is made
-/// of: shaders/brdf_density64.comp), evaluated at the cells' nodes and summed here; any other model's by the
-/// albedo probe, whose cells are the renderer's own `brdf_eval`.
-fn integrate(renderer: &mut Renderer, jobs: &[AlbedoJob], cells: &[Cell]) -> Result<Vec<CellEstimate>> {
-    let in_double = match jobs.first() {
-        Some(job) => renderer.brdf_sampler_densities_double(&job.brdf, job.wo, &[])?.is_some(),
-        None => false,
-    };
+/// The cells' integrals from the GPU, in batches of at most [`CELLS_PER_DISPATCH`]: `in_double`, evaluated
+/// in double precision at the cells' nodes (shaders/brdf_density64.comp, the model's own GLSL made double)
+/// and summed here; otherwise by the albedo probe, whose cells are the renderer's own `brdf_eval`.
+fn integrate(
+    renderer: &mut Renderer,
+    jobs: &[AlbedoJob],
+    cells: &[Cell],
+    in_double: bool,
+) -> Result<Vec<CellEstimate>> {
     let mut estimates = Vec::with_capacity(cells.len());
     if in_double {
         for batch in cells.chunks(CELLS_PER_DISPATCH_IN_DOUBLE) {

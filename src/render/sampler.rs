@@ -97,19 +97,25 @@ impl ProbePass {
         Ok(densities)
     }
 
-    /// The density of an analytic `brdf`'s sampler seen from `wo` (`material_pdf`'s: its pdfBRDF, else the
-    /// cosine's) and f_r cos(theta_i), at each of `directions`, in double precision (`brdf_density64.comp`):
-    /// `None` for any other model, on a device without doubles, or for a file with no double form.
+    /// The density of `brdf`'s sampler seen from `wo` (`material_pdf`'s; a `.brdf` file's: its pdfBRDF, else
+    /// the cosine's) and f_r cos(theta_i), at each of `directions`, in double precision
+    /// (`brdf_density64.comp`): `None` for a measured table, on a device without doubles, or for a file with
+    /// no double form.
     fn sampler_densities_double(
         &mut self,
         (brdf, wo): (&Brdf, Vec3),
         directions: &[DVec3],
         context: ProbeContext,
     ) -> Result<Option<Vec<[f64; 4]>>> {
-        let model = match analytic_shader(brdf) {
-            Some(model) if self.device.float64 && !self.without_double.contains(&model) => model,
-            _ => return Ok(None),
+        let model = analytic_shader(brdf);
+        let has_double_form = match (&model, brdf) {
+            (Some(model), _) => !self.without_double.contains(model),
+            (None, Brdf::Measured(_)) => false,
+            (None, _) => true,
         };
+        if !self.device.float64 || !has_double_form {
+            return Ok(None);
+        }
         let job = self.sampler_job(brdf, wo, context)?;
         let per_dispatch = EVALUATIONS_PER_DISPATCH.min(per_buffer::<[f64; 4]>(&self.device));
         if self.density64.is_none() {
@@ -119,9 +125,11 @@ impl ProbePass {
         let Some(shader) = self.density64.as_mut() else { return Ok(None) };
         let pipeline = match shader.pipeline(&self.device, context.compiler, &variant(brdf)) {
             Ok(pipeline) => pipeline,
-            Err(Error::Shader { log, .. }) => {
-                log::info!("{}: no double-precision evaluation ({log})", model.0.name());
-                self.without_double.insert(model);
+            Err(Error::Shader { log, .. }) if model.is_some() => {
+                if let Some(model) = model {
+                    log::info!("{}: no double-precision evaluation ({log})", model.0.name());
+                    self.without_double.insert(model);
+                }
                 return Ok(None);
             }
             Err(e) => return Err(e),
@@ -144,6 +152,12 @@ impl ProbePass {
         self.device.create_buffer_with_data(&[job], vk::BufferUsageFlags::STORAGE_BUFFER, "sampler job")
     }
 }
+
+/// The narrowest lobe (GGX's alpha, [`Brdf::lobe_width`]) whose integrals float32 evaluation holds within
+/// the albedo's tolerance: at GGX's alpha 0.01 the course's Cook-Torrance albedo in float is within 1e-6 of
+/// an independent integral at every view; at 0.0025 it is 1.7e-5 off at 85 degrees, and at 4e-4 up to 4e-5
+/// (near the peak |n x h| is alpha while wi + wo cancels to 6e-8: tests/analysis.rs).
+const FLOAT_LOBE_WIDTH: f32 = 0.01;
 
 /// The f32 of a result buffer's bytes.
 fn floats(bytes: &[u8]) -> Vec<f32> {
@@ -190,10 +204,23 @@ impl Renderer {
         })
     }
 
-    /// For a `.brdf` file: the density of its sampler seen from `wo` and f_r cos(theta_i) at each of
-    /// `directions` (frame n = +z, X = +x), as [`Renderer::brdf_sampler_densities`] but in double precision,
-    /// the file's GLSL compiled with doubles: (density, f_r cos θi's RGB). `None` for any other model, on a
-    /// device without doubles (`shaderFloat64`), or for a file whose GLSL has no double form.
+    /// Whether `brdf`'s integrals (its directional albedo, its sampler's density) are taken in double
+    /// precision, [`Renderer::brdf_sampler_densities_double`]'s: a `.brdf` file's always (its float GLSL may
+    /// round away what a sharp lobe is made of: GGX's `a^2 - 1`), a built-in model's when its lobe is
+    /// narrower than GGX's alpha 0.01 (`FLOAT_LOBE_WIDTH`); where the device has doubles.
+    ///
+    /// # Errors
+    /// As [`Renderer::probe_brdfs`].
+    pub fn integrates_in_double(&mut self, brdf: &Brdf) -> Result<bool> {
+        let sharp = brdf.lobe_width().is_none_or(|width| width < FLOAT_LOBE_WIDTH);
+        Ok(sharp && self.brdf_sampler_densities_double(brdf, Vec3::Z, &[])?.is_some())
+    }
+
+    /// The density of `brdf`'s sampler seen from `wo` and f_r cos(theta_i) at each of `directions` (frame
+    /// n = +z, X = +x), as [`Renderer::brdf_sampler_densities`] but in double precision, the model's GLSL
+    /// compiled with doubles (a `.brdf` file's, or the built-in models' own): (density, f_r cos θi's RGB).
+    /// `None` for a measured table (looked up in float), on a device without doubles (`shaderFloat64`), or
+    /// for a file whose GLSL has no double form.
     ///
     /// # Errors
     /// As [`Renderer::probe_brdfs`].

@@ -3,7 +3,8 @@
 //! The sources of shaders/ are embedded in the binary at build time with their SPIR-V (build.rs compiles
 //! them with glslc): a compiler of those very sources hands out that SPIR-V, and compiles any others (a
 //! `--shaders` folder, hot reloading, a test's broken BRDF) with shaderc. `#include "common/math.glsl"` is
-//! resolved against the shaders/ root (or the including file's folder first).
+//! resolved against the shaders/ root (or the including file's folder first); `double/FILE` is FILE made
+//! double (`brdf_file::shader_in_double`), which the built-in models' integrals include.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -198,13 +199,14 @@ impl ShaderCompiler {
                 .into_iter()
                 .find_map(|candidate| {
                     let content = match (&analytic, candidate.as_str()) {
-                        (Some(glsl), ANALYTIC_FILE) => Some(glsl.as_str()),
-                        _ => sources.text(&candidate),
+                        (Some(glsl), ANALYTIC_FILE) => Some(glsl.clone()),
+                        // A file made double (brdf_density64.comp's built-in models), from these sources.
+                        _ => match candidate.strip_prefix(brdf_file::DOUBLE_FOLDER) {
+                            Some(path) => sources.text(path).map(brdf_file::shader_in_double),
+                            None => sources.text(&candidate).map(str::to_string),
+                        },
                     };
-                    content.map(|content| shaderc::ResolvedInclude {
-                        resolved_name: candidate.clone(),
-                        content: content.to_string(),
-                    })
+                    content.map(|content| shaderc::ResolvedInclude { resolved_name: candidate.clone(), content })
                 })
                 .ok_or_else(|| format!("cannot find {requested} under shaders/"))
         });

@@ -431,6 +431,35 @@ pub fn wrap_double(
     wrap_in(parameters, shader, sampler, Target::Vulkan, Precision::Double)
 }
 
+/// Where a shader file of vk-render's made double ([`shader_in_double`]) is found: `double/` before its path
+/// (`double/brdf/cook_torrance.glsl`), as the shader compiler and build.rs both offer it.
+pub const DOUBLE_FOLDER: &str = "double/";
+
+/// The files a double shader includes as they are: the layouts it shares with the float code that fills its
+/// buffers (the material), and the double functions themselves.
+const INCLUDED_AS_THEY_ARE: [&str; 2] = ["common/material.glsl", "common/float64.glsl"];
+
+/// One of vk-render's own shader files (shaders/`path`) with every float a double, as [`wrap_double`] makes a
+/// `.brdf` file's: its types, literals and float-only functions, and each file it includes taken from
+/// [`DOUBLE_FOLDER`] too (but the material's layout and float64.glsl, which it includes as they are). The
+/// built-in models' integrals are made of it (`shaders/brdf_density64.comp`): the same GLSL as renders,
+/// in double precision.
+pub fn shader_in_double(text: &str) -> String {
+    let included: Vec<String> = text
+        .split_inclusive('\n')
+        .map(|line| {
+            let path = line.trim_start().strip_prefix("#include \"").and_then(|rest| rest.split_once('"'));
+            match path {
+                Some((path, rest)) if !INCLUDED_AS_THEY_ARE.contains(&path) => {
+                    format!("#include \"{DOUBLE_FOLDER}{path}\"{rest}")
+                }
+                _ => line.to_string(),
+            }
+        })
+        .collect();
+    in_double(&included.concat())
+}
+
 /// The precision a model's GLSL is evaluated in.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Precision {
@@ -822,6 +851,19 @@ mod tests {
         assert!(webgl.contains("return analytic_stopped ? vec3(0.0) : f;"), "{webgl}");
         let vulkan = wrap(&[], &shader, &[], Target::Vulkan).unwrap();
         assert!(vulkan.contains("while (true) {}") && !vulkan.contains("analytic_guard"), "{vulkan}");
+    }
+
+    #[test]
+    fn a_shader_in_double_includes_double_files_but_the_shared_layouts() {
+        let glsl = shader_in_double(
+            "#include \"common/material.glsl\"\n#include \"brdf/lambert.glsl\"\n  #include \"common/math.glsl\"  // PI\n\
+             vec3 lambert(vec3 kd) { return kd * INV_PI; }\n",
+        );
+        assert_eq!(
+            glsl,
+            "#include \"common/material.glsl\"\n#include \"double/brdf/lambert.glsl\"\n#include \
+             \"double/common/math.glsl\"  // PI\ndvec3 lambert(dvec3 kd) { return kd * INV_PI; }\n"
+        );
     }
 
     #[test]

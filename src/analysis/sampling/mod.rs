@@ -246,9 +246,9 @@ fn test_view(renderer: &mut Renderer, brdf: &Brdf, view: (f64, f64), samples: u6
         }
         drawn += count as u64;
     }
-    // A .brdf file's density and f_r are integrated in double precision where the device has doubles: its
-    // float32 GLSL may round away what a sharp lobe is made of (shaders/brdf_density64.comp).
-    let in_double = renderer.brdf_sampler_densities_double(brdf, wo, &[])?.is_some();
+    // A .brdf file's density and f_r, and a sharp built-in lobe's, are integrated in double precision where
+    // the device has doubles: float32 may round away what a sharp lobe is made of (shaders/brdf_density64.comp).
+    let in_double = renderer.integrates_in_double(brdf)?;
     let cells = integrate_cells(&GRID, &tally.coordinates, samples, |directions| {
         if in_double {
             if let Some(values) = renderer.brdf_sampler_densities_double(brdf, wo, directions)? {
