@@ -18,7 +18,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use vk_render::analysis::albedo::{directional_albedos, ALBEDO_TOLERANCE};
 use vk_render::brdf::Brdf;
 use vk_render::check::report::{check_image, scene_named};
-use vk_render::check::summary::{Statistics, Summary};
+use vk_render::check::summary::Summary;
 use vk_render::render::ProbeCase;
 use vk_render::scene::{Shorthands, View};
 use vk_render::vulkan::{list_devices, preferred_device, Instance};
@@ -400,56 +400,11 @@ impl PyRenderer {
             Err(_) => resolve(py, scene, &all)?,
         };
         let checked = self.with(py, |r| check_image(r, &mine, &scene, |_, _| {}))?;
-        let summary = Summary::of(&checked, &scene);
-        let report = PyDict::new(py);
-        report.set_item("matches", summary.matches)?;
-        report.set_item("verdict", summary.verdict)?;
-        let mistakes = PyList::empty(py);
-        for m in &summary.mistakes {
-            let entry = PyDict::new(py);
-            entry.set_item("name", m.name)?;
-            entry.set_item("explanation", m.explanation)?;
-            entry.set_item("should_be", m.should_be)?;
-            entry.set_item("looks_like", m.looks_like)?;
-            mistakes.append(entry)?;
-        }
-        report.set_item("mistakes", mistakes)?;
-        let stats = |s: &Statistics| -> PyResult<Bound<'py, PyDict>> {
-            let entry = PyDict::new(py);
-            entry.set_item("rms", s.rms)?;
-            entry.set_item("mean", s.mean)?;
-            entry.set_item("p99", s.p99)?;
-            entry.set_item("over", s.over)?;
-            Ok(entry)
-        };
-        report.set_item("statistics", stats(&summary.statistics)?)?;
-        let regions = PyList::empty(py);
-        for region in &summary.regions {
-            let entry = stats(&region.statistics)?;
-            entry.set_item("object", region.object)?;
-            entry.set_item("part", region.part)?;
-            regions.append(entry)?;
-        }
-        report.set_item("regions", regions)?;
-        report.set_item("tells_apart", &summary.tells_apart)?;
-        let wrong_parameters = PyList::empty(py);
-        for wrong in &summary.wrong_parameters {
-            let entry = PyDict::new(py);
-            entry.set_item("object", wrong.object)?;
-            entry.set_item("material", &wrong.material)?;
-            entry.set_item("model", wrong.model)?;
-            let (fitted, given) = (PyDict::new(py), PyDict::new(py));
-            for ((name, values), (_, scene_values)) in wrong.fitted.iter().zip(&wrong.scene) {
-                fitted.set_item(name, values.clone())?;
-                given.set_item(name, scene_values.clone())?;
-            }
-            entry.set_item("fitted", fitted)?;
-            entry.set_item("scene", given)?;
-            entry.set_item("residual_levels", wrong.residual_levels)?;
-            entry.set_item("scene_levels", wrong.scene_levels)?;
-            wrong_parameters.append(entry)?;
-        }
-        report.set_item("wrong_parameters", wrong_parameters)?;
+        // The summary's JSON, as the server answers it, read by Python's own json: the same keys and values.
+        let json = Summary::of(&checked, &scene)
+            .to_json()
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("the check's summary: {e}")))?;
+        let report = py.import("json")?.call_method1("loads", (json,))?.downcast_into::<PyDict>()?;
         report.set_item("exact", image_array(py, checked.exact().dimensions(), checked.exact().as_raw().clone())?)?;
         Ok(report)
     }

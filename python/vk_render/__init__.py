@@ -173,8 +173,10 @@ def check(image, scene, *, set=None, renderer=None):
     "verdict" ("matches", "mistake", "tie" or "unexplained"), "mistakes" (each with its name, explanation,
     should_be and looks_like), "statistics" (rms, mean, p99 and over, in 8-bit levels, as check prints),
     "regions" (the same per object and part), "tells_apart" (for a tie, the scene to render next),
-    "wrong_parameters" (when no mistake explains it: each object whose own model explains its pixels with
-    other parameters, with its "object", "material", "model", the "fitted" and the "scene" values of the
-    parameters that differ, and the residuals in levels of both) and "exact" (the exact image).
+    "tells_apart_levels" (how far apart the tied mistakes' renders are there, in levels), "wrong_parameters"
+    (when no mistake explains it: each object whose own model explains its pixels with other parameters,
+    with its "object", "material", "model", the "fitted" and the "scene" values of the parameters that
+    differ, and the residuals in levels of both) and "exact" (the exact image). The same keys and values as
+    the server's `POST /api/check` (one summary, read from its JSON).
     """
     return (renderer or default_renderer()).check(image, scene, set=set)

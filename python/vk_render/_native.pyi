@@ -74,6 +74,7 @@ class CheckReport(TypedDict):
     statistics: CheckStatistics
     regions: list[dict[str, Any]]
     tells_apart: Optional[str]
+    tells_apart_levels: Optional[float]
     wrong_parameters: list[CheckWrongParameters]
     exact: npt.NDArray[np.uint8]
 

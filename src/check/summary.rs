@@ -1,5 +1,6 @@
-//! A check as plain data: what the Python package's `vk_render.check` returns as a dict and the server's
-//! `POST /api/check` as JSON, made in one place so that the two cannot say different things.
+//! A check as plain data: what `vk-render check` prints, the Python package's `vk_render.check` returns as a
+//! dict (converted from its JSON) and the server's `POST /api/check` answers as JSON, made in one place so
+//! that none can say something different.
 
 use serde::Serialize;
 
@@ -22,6 +23,9 @@ pub struct Summary {
     pub regions: Vec<RegionStatistics>,
     /// For a tie: the practical's scene that tells the tied mistakes apart, as `NAME --set 'KEY=VALUE' ...`.
     pub tells_apart: Option<String>,
+    /// How far apart the tied mistakes' renders are on that scene, in 8-bit levels: the least distance
+    /// between two of them.
+    pub tells_apart_levels: Option<f64>,
     /// When no mistake explains the image: the objects whose own model explains it with other parameters.
     pub wrong_parameters: Vec<WrongParameter>,
 }
@@ -102,8 +106,19 @@ impl Summary {
             statistics: (&checked.diagnosis.against_exact).into(),
             regions,
             tells_apart: checked.tells_apart.map(|(shows_on, _)| scene_words(shows_on)),
+            tells_apart_levels: checked.tells_apart.map(|(_, levels)| levels),
             wrong_parameters,
         }
+    }
+}
+
+impl Summary {
+    /// The summary as JSON, as the server answers it and the Python package reads it into a dict.
+    ///
+    /// # Errors
+    /// serde_json's (none for these types, whose keys are all strings).
+    pub fn to_json(&self) -> serde_json::Result<String> {
+        serde_json::to_string(self)
     }
 }
 

@@ -1,7 +1,7 @@
 //! `vk-render check`: a student's image against the exact one: the verdict, the statistics overall and per
 //! object, the diagnosis among the catalogue's mistakes, and a report picture.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
@@ -9,7 +9,7 @@ use clap::Args;
 use super::{progress, SetArgs};
 use vk_render::check::catalogue::CATALOGUE;
 use vk_render::check::report::{check_image, read_image, scene_named};
-use vk_render::check::summary::scene_words;
+use vk_render::check::summary::{NamedMistake, Summary};
 use vk_render::check::{Verdict, EDGE_MARGIN, MATCH_P99, MATCH_RMS};
 use vk_render::figures::FIGURES;
 use vk_render::output::{write_png, OutputFormat};
@@ -83,111 +83,11 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
     let bar = progress(CATALOGUE.len(), "rendering the mistakes");
     let checked = check_image(&mut renderer, &mine, &scene, |done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
+    let summary = Summary::of(&checked, &scene);
+    print_summary(&summary, &scene, (mine_path, scene_name, mine.dimensions()));
     let diagnosis = &checked.diagnosis;
     let exact = checked.exact();
-    let stats = &diagnosis.against_exact;
-    println!(
-        "{} against {} at {} x {}: {}",
-        mine_path.display(),
-        scene_name,
-        mine.width(),
-        mine.height(),
-        if checked.matches() { "matches" } else { "differs" }
-    );
-    println!(
-        "tolerance (JPEG-fair): both images blurred over 3 x 3 pixels, {EDGE_MARGIN} pixels around hard edges left out; \
-         a match is a root mean square within {MATCH_RMS} levels and a 99th percentile within {MATCH_P99}"
-    );
-    println!(
-        "differences: root mean square {:.2} levels, mean {:.2}, p99 {:.1}, {:.2}% of the pixels over {MATCH_P99} levels",
-        stats.rms,
-        stats.mean,
-        stats.p99,
-        100.0 * stats.over
-    );
-    for region in &checked.regions {
-        let s = &region.stats;
-        println!(
-            "  {} {}: root mean square {:.2}, p99 {:.1}, {:.2}% over",
-            object_name(&scene, region.object),
-            region.part,
-            s.rms,
-            s.p99,
-            100.0 * s.over
-        );
-    }
-    let mistakes = checked.mistakes();
-    let diagnosed = match &diagnosis.verdict {
-        Verdict::Matches => {
-            println!("diagnosis: none needed, your image is the exact one within the tolerance");
-            None
-        }
-        Verdict::Mistake(_) => {
-            for m in &mistakes {
-                println!(
-                    "diagnosis: {}: {} It should be {}; your image suggests {}.",
-                    m.name, m.explanation, m.should_be, m.looks_like
-                );
-            }
-            mistakes.first().copied()
-        }
-        Verdict::Tie(_) => {
-            println!("diagnosis: these mistakes explain your image equally well on this scene:");
-            for m in &mistakes {
-                println!(
-                    "  {}: {} It should be {}; your image suggests {}.",
-                    m.name, m.explanation, m.should_be, m.looks_like
-                );
-            }
-            match checked.tells_apart {
-                Some((shows_on, distance)) => println!(
-                    "  the practical's scene that tells them apart: {} (their renders differ by {distance:.1} levels or more \
-                     there): render yours of it and check it",
-                    scene_words(shows_on)
-                ),
-                None => println!("  no scene of the practical tells them apart"),
-            }
-            mistakes.first().copied()
-        }
-        Verdict::Unexplained => {
-            for wrong in &checked.wrong_parameters {
-                let object = &scene.objects[wrong.object];
-                let shown = |values: &[f32]| {
-                    let v: Vec<String> = values.iter().map(|x| format!("{:.3}", x)).map(trimmed).collect();
-                    if let [one] = &v[..] {
-                        one.clone()
-                    } else {
-                        format!("[{}]", v.join(", "))
-                    }
-                };
-                let fitted: Vec<String> =
-                    wrong.differing.iter().map(|(n, v, _)| format!("{n} = {}", shown(v))).collect();
-                let given: Vec<String> = wrong.differing.iter().map(|(_, _, g)| shown(g)).collect();
-                println!(
-                    "diagnosis: {} matches the correct {} with {}; the scene says {} (its pixels fitted within {:.2} \
-                     levels, the scene's parameters {:.2})",
-                    object_name(&scene, Some(wrong.object)),
-                    object.brdf.name(),
-                    fitted.join(", "),
-                    given.join(", "),
-                    wrong.fitted.residual_levels,
-                    wrong.fitted.scene_levels
-                );
-            }
-            println!("diagnosis: no known mistake explains your image; the differences lie in:");
-            let mut worst: Vec<_> = checked.regions.iter().filter(|r| r.stats.over > 0.01).collect();
-            worst.sort_by(|a, b| b.stats.over.total_cmp(&a.stats.over));
-            for region in worst.iter().take(3) {
-                println!(
-                    "  {} {} ({:.1}% of its pixels)",
-                    object_name(&scene, region.object),
-                    region.part,
-                    100.0 * region.stats.over
-                );
-            }
-            None
-        }
-    };
+    let diagnosed = summary.mistakes.first().filter(|_| matches!(summary.verdict, "mistake" | "tie"));
     if let Some(report) = &args.output {
         let difference = Difference::of(&mine, exact);
         let mut panels = vec![
@@ -206,6 +106,102 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
         write_png(&side_by_side(&title, &panels, Some(difference.map.scale())), report)?;
     }
     Ok(diagnosis.verdict == Verdict::Matches)
+}
+
+/// What `vk-render check` prints of a check: the verdict, the tolerance, the differences overall and per
+/// region, and the diagnosis, all read from the check's [`Summary`] (as the server and Python give it).
+fn print_summary(
+    summary: &Summary,
+    scene: &Scene,
+    (mine_path, scene_name, (width, height)): (&Path, &str, (u32, u32)),
+) {
+    println!(
+        "{} against {scene_name} at {width} x {height}: {}",
+        mine_path.display(),
+        if summary.matches { "matches" } else { "differs" }
+    );
+    println!(
+        "tolerance (JPEG-fair): both images blurred over 3 x 3 pixels, {EDGE_MARGIN} pixels around hard edges left out; \
+         a match is a root mean square within {MATCH_RMS} levels and a 99th percentile within {MATCH_P99}"
+    );
+    let stats = &summary.statistics;
+    println!(
+        "differences: root mean square {:.2} levels, mean {:.2}, p99 {:.1}, {:.2}% of the pixels over {MATCH_P99} levels",
+        stats.rms,
+        stats.mean,
+        stats.p99,
+        100.0 * stats.over
+    );
+    for region in &summary.regions {
+        let s = &region.statistics;
+        println!(
+            "  {} {}: root mean square {:.2}, p99 {:.1}, {:.2}% over",
+            object_name(scene, region.object),
+            region.part,
+            s.rms,
+            s.p99,
+            100.0 * s.over
+        );
+    }
+    let explained = |m: &NamedMistake| {
+        format!("{}: {} It should be {}; your image suggests {}.", m.name, m.explanation, m.should_be, m.looks_like)
+    };
+    match summary.verdict {
+        "matches" => println!("diagnosis: none needed, your image is the exact one within the tolerance"),
+        "mistake" => {
+            for m in &summary.mistakes {
+                println!("diagnosis: {}", explained(m));
+            }
+        }
+        "tie" => {
+            println!("diagnosis: these mistakes explain your image equally well on this scene:");
+            for m in &summary.mistakes {
+                println!("  {}", explained(m));
+            }
+            match (&summary.tells_apart, summary.tells_apart_levels) {
+                (Some(shows_on), Some(levels)) => println!(
+                    "  the practical's scene that tells them apart: {shows_on} (their renders differ by {levels:.1} levels or \
+                     more there): render yours of it and check it"
+                ),
+                _ => println!("  no scene of the practical tells them apart"),
+            }
+        }
+        _ => {
+            for wrong in &summary.wrong_parameters {
+                let shown = |values: &[f32]| {
+                    let v: Vec<String> = values.iter().map(|x| format!("{:.3}", x)).map(trimmed).collect();
+                    if let [one] = &v[..] {
+                        one.clone()
+                    } else {
+                        format!("[{}]", v.join(", "))
+                    }
+                };
+                let fitted: Vec<String> = wrong.fitted.iter().map(|(n, v)| format!("{n} = {}", shown(v))).collect();
+                let given: Vec<String> = wrong.scene.iter().map(|(_, g)| shown(g)).collect();
+                println!(
+                    "diagnosis: {} matches the correct {} with {}; the scene says {} (its pixels fitted within {:.2} \
+                     levels, the scene's parameters {:.2})",
+                    object_name(scene, Some(wrong.object)),
+                    wrong.model,
+                    fitted.join(", "),
+                    given.join(", "),
+                    wrong.residual_levels,
+                    wrong.scene_levels
+                );
+            }
+            println!("diagnosis: no known mistake explains your image; the differences lie in:");
+            let mut worst: Vec<_> = summary.regions.iter().filter(|r| r.statistics.over > 0.01).collect();
+            worst.sort_by(|a, b| b.statistics.over.total_cmp(&a.statistics.over));
+            for region in worst.iter().take(3) {
+                println!(
+                    "  {} {} ({:.1}% of its pixels)",
+                    object_name(scene, region.object),
+                    region.part,
+                    100.0 * region.statistics.over
+                );
+            }
+        }
+    }
 }
 
 fn verdict_line(verdict: &Verdict) -> String {
