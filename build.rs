@@ -37,18 +37,16 @@ fn main() {
     link_glslang_and_spirv_tools();
 }
 
-/// Builds the crate web/ (the library's code the pages run: a student's `.brdf` read and wrapped for WebGL2,
+/// Builds the crate crates/web/ (the library's code the pages run: a student's `.brdf` read and wrapped for WebGL2,
 /// the albedo's cubature, the check's rules) for wasm32-unknown-unknown into `$OUT_DIR/vk-render.wasm`, which the server and `vk-render site` hand out
 /// as `static/vk-render.wasm`. A cargo of its own, with its own target folder under OUT_DIR (this build's
 /// holds its lock), offline and locked: the crates it uses are this build's.
 fn build_web_assembly() {
-    // web/ and the device-free crates it is built from (crates/).
-    for folder in ["web", "crates"] {
-        println!("cargo:rerun-if-changed={folder}");
-    }
+    // crates/web/ and the device-free crates it is built from, beside it.
+    println!("cargo:rerun-if-changed=crates");
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("web/Cargo.toml");
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/web/Cargo.toml");
     let target = "wasm32-unknown-unknown";
     let mut command = Command::new(&cargo);
     command
@@ -61,7 +59,7 @@ fn build_web_assembly() {
         .env_remove("CARGO_ENCODED_RUSTFLAGS")
         .env_remove("CARGO_BUILD_TARGET")
         .env("CARGO_PROFILE_RELEASE_STRIP", "true");
-    let output = command.output().unwrap_or_else(|e| panic!("cannot run {cargo} to build web/ ({e})"));
+    let output = command.output().unwrap_or_else(|e| panic!("cannot run {cargo} to build crates/web/ ({e})"));
     if !output.status.success() {
         let said = String::from_utf8_lossy(&output.stderr);
         let hint =
@@ -70,7 +68,7 @@ fn build_web_assembly() {
             } else {
                 String::new()
             };
-        panic!("the WebAssembly of web/ did not build:\n{said}{hint}");
+        panic!("the WebAssembly of crates/web/ did not build:\n{said}{hint}");
     }
     let built = out.join(format!("wasm-target/{target}/release/vk_render_web.wasm"));
     std::fs::copy(&built, out.join("vk-render.wasm")).unwrap_or_else(|e| panic!("{}: {e}", built.display()));

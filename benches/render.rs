@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use vk_render::output::TexelOrder;
+use vk_render::pictures::output::TexelOrder;
 use vk_render::preview::{draw_motion_frame, Controls, ORBIT_STEP_PIXELS};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 

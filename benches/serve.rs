@@ -32,7 +32,7 @@ use std::time::{Duration, Instant};
 use serde_json::json;
 
 use server::{Answer, Server};
-use vk_render::figures::practical_image;
+use vk_render::scene::figures::practical_image;
 use vk_render::{Renderer, RendererOptions};
 
 fn median(mut samples: Vec<Duration>) -> Duration {

@@ -14,7 +14,7 @@ fn main() -> anyhow::Result<()> {
     std::fs::create_dir_all(&folder)?;
     for (name, scene) in golden::cases() {
         let image = renderer.render(&scene)?.to_rgb8(&scene.image);
-        vk_render::output::write_png(&image, &folder.join(&name))?;
+        vk_render::pictures::output::write_png(&image, &folder.join(&name))?;
         println!("blessed tests/golden/{name}");
     }
     println!("on {} ({})", renderer.device_info().name, renderer.device_info().driver);

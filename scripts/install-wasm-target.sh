@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The Rust target the pages' WebAssembly is built for (build.rs builds web/ for it: the library's `.brdf`
+# The Rust target the pages' WebAssembly is built for (build.rs builds crates/web/ for it: the library's `.brdf`
 # reader, which the explore page's editor runs). Added with rustup when it is missing; quiet when present.
 set -euo pipefail
 target=wasm32-unknown-unknown

@@ -196,7 +196,7 @@ fn remove_partial_files_on_signals() {
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            let removed = vk_render::output::remove_partial_files();
+            let removed = vk_render::pictures::output::remove_partial_files();
             let name = if signal == SIGINT { "SIGINT" } else { "SIGTERM" };
             eprintln!("vk-render: stopped by {name}; {removed} partial file(s) removed");
             std::process::exit(128 + signal);

@@ -7,8 +7,8 @@ mod common;
 use common::*;
 use glam::{Mat3, Vec3};
 use vk_render::brdf::{default_tangent, Analytic, Brdf, DiffuseModel, ParameterValue};
-use vk_render::figures::FIGURES;
 use vk_render::render::ProbeCase;
+use vk_render::scene::figures::FIGURES;
 
 /// A material of a shipped model with some parameters set.
 fn material(file: &str, values: &[(&str, ParameterValue)]) -> Brdf {
@@ -390,8 +390,9 @@ fn a_tangent_frame_with_x_and_y_swapped_is_caught_by_the_reference() {
 fn assert_caught_by_the_reference((file, from): (&str, &str), to: &str, scene: &vk_render::Scene) {
     let gpu = mutant_renderer(file, from, to).render(scene).expect("the mutant renders").to_rgb8(&scene.image);
     let reference = vk_render::reference::render(scene).unwrap();
-    let band = vk_render::compare::silhouette_band(&reference.object_ids, scene.image.width, scene.image.height, 2);
-    let c = vk_render::compare::compare(&gpu, &reference.image.to_rgb8(&scene.image), &band);
+    let band =
+        vk_render::pictures::compare::silhouette_band(&reference.object_ids, scene.image.width, scene.image.height, 2);
+    let c = vk_render::pictures::compare::compare(&gpu, &reference.image.to_rgb8(&scene.image), &band);
     eprintln!("{file} with {to:?}: {c}");
     assert!(!acceptable(&c), "{file} with {to:?} instead of {from:?} went unnoticed: {c}");
 }

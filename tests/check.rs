@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use image::RgbImage;
 use vk_render::check::catalogue::{Mistake, CATALOGUE};
 use vk_render::check::{diagnose, render_candidates, Candidate, Verdict};
-use vk_render::figures::practical_image;
+use vk_render::scene::figures::practical_image;
 use vk_render::Scene;
 
 /// A practical's scene, small (the tests render every mistake on it), with the entry's overrides.
@@ -95,7 +95,7 @@ fn every_mistake_is_diagnosed_from_its_jpeg_and_the_correct_image_matches() {
 #[test]
 fn the_exact_image_of_every_figure_matches_as_its_jpeg() {
     // Only the correct render is a candidate here: the verdict is the tolerance's alone.
-    for image in vk_render::figures::FIGURES.iter().flat_map(|figure| figure.images) {
+    for image in vk_render::scene::figures::FIGURES.iter().flat_map(|figure| figure.images) {
         let scene = scene(image.file.trim_end_matches(".toml"), &[]);
         let exact = common::renderer().render_rgb8(&scene).expect("render");
         let candidates = [Candidate { mistake: None, image: exact.clone() }];

@@ -6,7 +6,7 @@ mod common;
 use std::process::Command;
 
 use common::*;
-use vk_render::figures::FIGURES;
+use vk_render::scene::figures::FIGURES;
 
 fn figure_scene(file: &str) -> vk_render::Scene {
     let image = FIGURES.iter().flat_map(|f| f.images).find(|i| i.file == file).expect("a figure image");
@@ -91,10 +91,10 @@ fn sweep_writes_labelled_tiles_and_a_sheet() {
     // the tiles, it must match pixel for pixel (a missing or wrong label differs in its strip).
     let sheet = image::open(&sheet).unwrap().into_rgb8();
     let labelled = [("sigma = 0".to_string(), zero), ("sigma = 0.6".to_string(), rough)];
-    let expected = vk_render::sheet::contact_sheet(Some("material.matte.sigma"), &labelled, 4);
+    let expected = vk_render::pictures::sheet::contact_sheet(Some("material.matte.sigma"), &labelled, 4);
     assert!(sheet == expected, "the sheet is not the tiles labelled with their values");
     let unlabelled = [(String::new(), labelled[0].1.clone()), (String::new(), labelled[1].1.clone())];
-    assert!(sheet != vk_render::sheet::contact_sheet(Some("material.matte.sigma"), &unlabelled, 4));
+    assert!(sheet != vk_render::pictures::sheet::contact_sheet(Some("material.matte.sigma"), &unlabelled, 4));
 }
 
 #[test]

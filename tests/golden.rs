@@ -11,7 +11,7 @@ mod common;
 
 use common::golden::{cases, folder};
 use common::*;
-use vk_render::compare::{compare, regions_of_difference, write_failure_images, Comparison};
+use vk_render::pictures::compare::{compare, regions_of_difference, write_failure_images, Comparison};
 
 /// The golden image `name`.
 fn golden(name: &str) -> image::RgbImage {

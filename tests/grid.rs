@@ -9,7 +9,7 @@ use std::process::{Command, Output};
 
 use common::{root, temp_dir, vk_render};
 use image::RgbImage;
-use vk_render::sheet::{assemble, SheetLayout};
+use vk_render::pictures::sheet::{assemble, SheetLayout};
 
 /// Small, fast tiles.
 const SMALL: [&str; 6] = ["--width", "48", "--height", "32", "--samples", "1"];

@@ -12,7 +12,7 @@ use glam::Vec3;
 use vk_render::analysis::lobe::{lobes, LobeCut};
 use vk_render::brdf::measured::{entry_index, ENTRIES, FILE_BYTES, PHI_D_BINS, THETA_D_BINS, THETA_H_BINS};
 use vk_render::brdf::{rgl, Brdf, DiffuseModel, Measured, MeasuredTable};
-use vk_render::compare::{compare, silhouette_band, Comparison};
+use vk_render::pictures::compare::{compare, silhouette_band, Comparison};
 use vk_render::render::albedo::directional_albedos;
 use vk_render::render::ProbeCase;
 use vk_render::{reference, Scene};

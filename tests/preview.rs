@@ -45,7 +45,7 @@ fn offscreen(scene: &str, overrides: &[&str]) -> image::RgbImage {
 fn assert_same(shot: &image::RgbImage, expected: &image::RgbImage, what: &str) {
     assert_eq!(shot.dimensions(), expected.dimensions(), "{what}");
     let everything = vec![false; (shot.width() * shot.height()) as usize];
-    let c = vk_render::compare::compare(shot, expected, &everything);
+    let c = vk_render::pictures::compare::compare(shot, expected, &everything);
     assert!(c.max <= 1 && c.fraction_over_3 == 0.0, "{what}: {c}");
 }
 

@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use vk_render::compare::{compare, silhouette_band, Comparison};
+use vk_render::pictures::compare::{compare, silhouette_band, Comparison};
 use vk_render::{reference, Scene};
 
 #[test]

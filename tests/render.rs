@@ -4,8 +4,8 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use vk_render::compare::Comparison;
-use vk_render::output::{write_image, TexelOrder};
+use vk_render::pictures::compare::Comparison;
+use vk_render::pictures::output::{write_image, TexelOrder};
 
 #[test]
 fn figure_1_has_the_course_values() {
@@ -180,9 +180,9 @@ fn obj_sphere_against_the_reference(name: &str, segments: u32, rings: u32, with_
     let mesh_scene = vk_render::Scene::load(&scene_path, &[]).unwrap();
     let sphere_scene = asset_scene("fig1-lambert.toml", &["object.0.radius=2.0", "object.0.center=[0.0, 0.5, 4.5]"]);
     let reference = vk_render::reference::render(&sphere_scene).unwrap();
-    let band = vk_render::compare::silhouette_band(&reference.object_ids, 600, 400, 2);
+    let band = vk_render::pictures::compare::silhouette_band(&reference.object_ids, 600, 400, 2);
     let gpu = render(&mesh_scene).to_rgb8(&mesh_scene.image);
-    let c = vk_render::compare::compare(&gpu, &reference.image.to_rgb8(&sphere_scene.image), &band);
+    let c = vk_render::pictures::compare::compare(&gpu, &reference.image.to_rgb8(&sphere_scene.image), &band);
     eprintln!("{name}: {c}");
     // The reference traces the same triangles with parry3d and interpolates the same normals.
     let c_mesh = check_against_reference(name, &mesh_scene, |c| c.max <= 1);

@@ -16,7 +16,7 @@ use serde_json::json;
 use common::server::{read_answer, Answer, Server};
 use vk_render::check::catalogue::CATALOGUE;
 use vk_render::check::render_candidates;
-use vk_render::figures::practical_image;
+use vk_render::scene::figures::practical_image;
 
 /// A small render request that any server answers with 200.
 fn small_render() -> serde_json::Value {

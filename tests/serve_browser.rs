@@ -21,8 +21,8 @@ use common::server::Server;
 use common::webdriver::{base64, base64_encoded, Browser};
 use vk_render::check::catalogue::CATALOGUE;
 use vk_render::check::render_candidates;
-use vk_render::compare::{compare, write_failure_images, Comparison};
-use vk_render::figures::practical_image;
+use vk_render::pictures::compare::{compare, write_failure_images, Comparison};
+use vk_render::scene::figures::practical_image;
 
 fn save_screenshot(browser: &Browser, name: &str) {
     let png = browser.screenshot();
@@ -156,7 +156,7 @@ fn the_explore_and_check_pages_work_in_a_browser() {
     assert_eq!(code, Some(0), "{stderr}");
 }
 
-use vk_render::webgl::translation as webgl;
+use vk_render::render::webgl::translation as webgl;
 
 /// The bound on the browser's frame against `vk-render render`'s, away from the silhouettes: mean at
 /// most 0.5 levels, p99 at most 2, at most 0.5% of the pixels more than 3 levels off.
@@ -229,7 +229,7 @@ fn mutant_shaders(file: &str, from: &str, to: &str) -> Value {
 }
 
 /// The browser's shaders of every analytic material of scene `id` (in `folder`), translated as the server
-/// translates them (vk_render::webgl::analytic_shaders) but from the embedded shaders with `file`'s `from`
+/// translates them (vk_render::render::webgl::analytic_shaders) but from the embedded shaders with `file`'s `from`
 /// replaced by `to`, named as the page keeps them.
 fn mutant_analytic_shaders(folder: &Path, id: &str, file: &str, from: &str, to: &str) -> Value {
     let path = folder.join(format!("{id}.toml"));
@@ -238,7 +238,7 @@ fn mutant_analytic_shaders(folder: &Path, id: &str, file: &str, from: &str, to: 
     let mut table = serde_json::Map::new();
     for (name, brdf) in &scene.materials {
         if let vk_render::brdf::Brdf::Analytic(material) = brdf {
-            for (entry, text) in vk_render::webgl::analytic_shaders(material.model(), &sources).unwrap() {
+            for (entry, text) in vk_render::render::webgl::analytic_shaders(material.model(), &sources).unwrap() {
                 table.insert(format!("{entry}@{id}/{name}"), Value::String(text));
             }
         }
@@ -346,7 +346,7 @@ type Drawn = (String, std::path::PathBuf, Value);
 /// environments' scenes in their fast mode, which the browser draws (the sky's once more with its gold
 /// moved).
 fn catalogue(scenes: &Path, analytic: &Path) -> Vec<Drawn> {
-    let mut every: Vec<Drawn> = vk_render::figures::FIGURES
+    let mut every: Vec<Drawn> = vk_render::scene::figures::FIGURES
         .iter()
         .flat_map(|f| f.images)
         .map(|image| {

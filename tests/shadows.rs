@@ -5,8 +5,8 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use vk_render::compare::{compare, silhouette_band};
-use vk_render::output::HdrImage;
+use vk_render::pictures::compare::{compare, silhouette_band};
+use vk_render::pictures::output::HdrImage;
 use vk_render::{reference, Scene};
 
 /// The plane's pixels (object 0) that a light's shadows darken: radiance under half that without shadows.

@@ -1,11 +1,11 @@
-//! `vk_render._native.Grid`: the library's grid of parameter values (`vk_render::grid`), the one that
+//! `vk_render._native.Grid`: the library's grid of parameter values (`vk_render::scene::grid`), the one that
 //! `vk-render sweep` renders: the same order of combinations, shards, labels and tile names.
 
 use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
-use vk_render::grid::{Grid, GridParam, GridValue, Shard};
+use vk_render::scene::grid::{Grid, GridParam, GridValue, Shard};
 
 use crate::convert::toml_value;
 use crate::errors::scene_error;

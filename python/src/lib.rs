@@ -482,7 +482,7 @@ fn devices(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 #[pyfunction]
 fn write_png(py: Python<'_>, image: &Bound<'_, PyArray3<u8>>, path: PathBuf) -> PyResult<()> {
     let image = rgb_image(py, image)?;
-    detached(py, || vk_render::output::write_png(&image, &path))
+    detached(py, || vk_render::pictures::output::write_png(&image, &path))
 }
 
 /// Reads an image vk-render writes or checks: a PNG or JPEG (8-bit RGB, as `vk-render check` reads it) as

@@ -16,7 +16,8 @@ use glam::DVec3;
 /// Cells expecting fewer samples than this are pooled (Cochran's rule, as Mitsuba and pbrt pool).
 pub const MIN_EXPECTED: f64 = 5.0;
 
-/// A direction's (cos θ, φ) about +z, cos θ exact near the poles (the cubature's cells of the sampling test share them: its cells are this grid's, cut).
+/// A direction's (cos θ, φ) about +z, cos θ exact near the poles (the sampling test's cells, this grid's
+/// cut, share them).
 pub fn coordinates(d: DVec3) -> (f64, f64) {
     let d = d.normalize();
     let across = d.x * d.x + d.y * d.y;
@@ -203,7 +204,7 @@ pub fn ln_gamma(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::sampling::cubature::integrate_cells;
+    use crate::analysis::sampling::cell_integrals::integrate_cells;
     // The reference tracer's generator: uniform numbers in [0, 1), deterministic.
     use crate::reference::SplitMix64 as Uniform;
 
@@ -225,7 +226,7 @@ mod tests {
 
     const GRID: SphereGrid = SphereGrid { cos_bins: 20, phi_bins: 40 };
 
-    /// Each cell's probability under `pdf`, by the command's adaptive cubature.
+    /// Each cell's probability under `pdf`, by the command's own adaptive rules ([`integrate_cells`]).
     fn probabilities(pdf: impl Fn(DVec3) -> f64) -> Vec<f64> {
         let density = |ds: &[DVec3]| Ok(ds.iter().map(|&d| [pdf(d), 0.0, 0.0, 0.0]).collect());
         integrate_cells(&GRID, &[], 1_000_000, density).unwrap().probability

@@ -16,7 +16,7 @@ use image::RgbImage;
 use super::fit::{fit_values, Fit, FitModel};
 use crate::brdf::Brdf;
 use crate::error::{Error, Result};
-use crate::output::level;
+use crate::pictures::output::level;
 use crate::reference::{surface_points, SurfacePoint};
 use crate::render::{ProbeCase, Renderer};
 use crate::scene::{Encoding, Scene, Tonemap, View};

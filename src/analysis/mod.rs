@@ -1,6 +1,6 @@
 //! Studying the reflectance models rather than their pictures: lobes, directional albedos and the white
 //! furnace, all computed on the GPU by the probe pass from `brdf_eval`, the very GLSL the renders shade with,
-//! so that a plot and a render can never disagree. A layer above [`crate::render`]; [`crate::chart`] draws
+//! so that a plot and a render can never disagree. A layer above [`crate::render`]; [`crate::pictures::chart`] draws
 //! what it computes.
 
 pub use crate::render::albedo;

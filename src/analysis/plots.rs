@@ -6,7 +6,7 @@ use glam::Vec3;
 use super::albedo::Albedo;
 use super::lobe::LobeCut;
 use super::{angle_table, describe, rgb, Channel, NamedBrdf};
-use crate::chart::{value_range, LineChart, LobeChart, Series, PALETTE};
+use crate::pictures::chart::{value_range, LineChart, LobeChart, Series, PALETTE};
 
 /// How a lobe chart shows its values.
 #[derive(Clone, Copy, Debug)]

@@ -9,7 +9,7 @@ pub mod summary;
 use image::RgbImage;
 
 use crate::error::{Error, Result};
-use crate::output::tonemap;
+use crate::pictures::output::tonemap;
 use crate::render::Renderer;
 use crate::scene::Scene;
 use crate::vulkan::ShaderSources;
@@ -147,7 +147,7 @@ pub fn scene_that_tells_apart(
             continue;
         }
         tried.push((name, overrides));
-        let Some(image) = crate::figures::practical_image(name) else { continue };
+        let Some(image) = crate::scene::figures::practical_image(name) else { continue };
         let mut all: Vec<crate::Override> = vec![
             crate::Override::new("image.width", i64::from(width)),
             crate::Override::new("image.height", i64::from(height)),

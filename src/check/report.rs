@@ -13,8 +13,8 @@ use super::{diagnose, regions, render_candidates, scene_that_tells_apart, Candid
 use crate::analysis::fit::{parameters, FitModel};
 use crate::analysis::image_fit::{ImageFit, SceneImage};
 use crate::error::{Error, Result};
-use crate::figures::practical_image;
 use crate::render::Renderer;
+use crate::scene::figures::practical_image;
 use crate::scene::{Override, Scene};
 
 /// The outcome of checking an image against a scene.

@@ -11,9 +11,9 @@ use vk_render::check::catalogue::CATALOGUE;
 use vk_render::check::report::{check_image, read_image, scene_named};
 use vk_render::check::summary::{NamedMistake, Summary};
 use vk_render::check::{Verdict, EDGE_MARGIN, MATCH_P99, MATCH_RMS};
-use vk_render::figures::FIGURES;
-use vk_render::output::{write_png, OutputFormat};
-use vk_render::report::{side_by_side, Difference};
+use vk_render::pictures::output::{write_png, OutputFormat};
+use vk_render::pictures::report::{side_by_side, Difference};
+use vk_render::scene::figures::FIGURES;
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 
 #[derive(Args)]

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{render_png_pixels, warn, ImageArgs};
-use vk_render::output::{write_png, OutputFormat};
-use vk_render::report::{side_by_side, Difference};
+use vk_render::pictures::output::{write_png, OutputFormat};
+use vk_render::pictures::report::{side_by_side, Difference};
 use vk_render::{Override, Renderer, RendererOptions, Scene};
 
 #[derive(Args)]

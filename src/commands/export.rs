@@ -9,7 +9,7 @@ use clap::Args;
 use super::SetArgs;
 use vk_render::analysis::{describe, select_materials, NamedBrdf};
 use vk_render::export::{export, Format};
-use vk_render::output::write_file;
+use vk_render::pictures::output::write_file;
 use vk_render::Scene;
 
 /// The command line's names of the formats.

@@ -6,7 +6,7 @@ use clap::Args;
 
 use super::sheets::{render_sheets, Arrangement, Sheet, Tile};
 use super::ImageArgs;
-use vk_render::figures::FIGURES;
+use vk_render::scene::figures::FIGURES;
 use vk_render::{Renderer, RendererOptions, Scene};
 
 #[derive(Args)]

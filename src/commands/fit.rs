@@ -16,10 +16,10 @@ use vk_render::analysis::image_fit::{object_of, SceneImage};
 use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::{describe, rgb, select_materials, Channel, NamedBrdf};
 use vk_render::brdf::{ggx_alpha, Analytic, AnalyticModel, Brdf, Measured};
-use vk_render::chart::{write_chart, ChartFile, LineChart, LobeChart, Series, PALETTE};
 use vk_render::check::report::read_image;
 use vk_render::export::{export, CourseMaterial, Format, EXPORTED_MODELS};
-use vk_render::output::write_file;
+use vk_render::pictures::chart::{write_chart, ChartFile, LineChart, LobeChart, Series, PALETTE};
+use vk_render::pictures::output::write_file;
 use vk_render::{Renderer, RendererOptions, Scene};
 
 /// What `--to` takes besides a model: every model, ranked.

@@ -7,7 +7,7 @@ use super::{progress, StudyArgs, StudyFile};
 use vk_render::analysis::albedo::ALBEDO_TOLERANCE;
 use vk_render::analysis::describe;
 use vk_render::analysis::furnace::{furnace, FurnaceRow};
-use vk_render::chart::{write_chart, TableChart};
+use vk_render::pictures::chart::{write_chart, TableChart};
 use vk_render::{Renderer, RendererOptions};
 
 #[derive(Args)]

@@ -23,8 +23,8 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use vk_render::analysis::{select_materials, NamedBrdf};
-use vk_render::chart::ChartFile;
-use vk_render::output::write_file;
+use vk_render::pictures::chart::ChartFile;
+use vk_render::pictures::output::write_file;
 use vk_render::scene::{Shorthands, View};
 use vk_render::{Override, Renderer, Scene};
 

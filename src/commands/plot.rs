@@ -11,9 +11,9 @@ use vk_render::analysis::lobe3d::{lobe_scene, Viewpoint};
 use vk_render::analysis::plots::{albedo_chart, albedo_table, lobe_chart, lobe_table, LobeStyle};
 use vk_render::analysis::slice::{slices, Slice};
 use vk_render::analysis::{describe, rgb, Channel, NamedBrdf};
-use vk_render::chart::{value_range, write_chart, ChartFile, HeatMap, HeatMapChart};
-use vk_render::output::write_png;
-use vk_render::report::side_by_side;
+use vk_render::pictures::chart::{value_range, write_chart, ChartFile, HeatMap, HeatMapChart};
+use vk_render::pictures::output::write_png;
+use vk_render::pictures::report::side_by_side;
 use vk_render::{Renderer, RendererOptions};
 
 #[derive(Args)]

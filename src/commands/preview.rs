@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::ImageArgs;
-use vk_render::output::OutputFormat;
+use vk_render::pictures::output::OutputFormat;
 use vk_render::RendererOptions;
 
 #[derive(Args)]

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{names_the_same_file, ImageArgs};
-use vk_render::output::{write_image, write_png, OutputFormat};
+use vk_render::pictures::output::{write_image, write_png, OutputFormat};
 use vk_render::Scene;
 
 #[derive(Args)]

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{print_accuracy, render_png_pixels, warn, ImageArgs};
-use vk_render::output::{write_image, write_png, OutputFormat};
+use vk_render::pictures::output::{write_image, write_png, OutputFormat};
 use vk_render::vulkan::ShaderSources;
 use vk_render::{Renderer, RendererOptions, Scene};
 

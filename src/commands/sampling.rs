@@ -13,8 +13,8 @@ use vk_render::analysis::sampling::{
     test_sampler, views, SamplingOptions, SamplingReport, DEFAULT_LEVEL, DEFAULT_SAMPLES, DEFAULT_THETA_O, GRID,
 };
 use vk_render::analysis::{describe, select_materials};
-use vk_render::chart::{write_chart, ChartFile};
-use vk_render::output::write_file;
+use vk_render::pictures::chart::{write_chart, ChartFile};
+use vk_render::pictures::output::write_file;
 use vk_render::{Renderer, RendererOptions, Scene};
 
 #[derive(Args)]

@@ -4,8 +4,8 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc::Receiver;
 
 use super::{progress, render_png_pixels};
-use vk_render::output::{write_png, write_png_rows};
-use vk_render::sheet::SheetLayout;
+use vk_render::pictures::output::{write_png, write_png_rows};
+use vk_render::pictures::sheet::SheetLayout;
 use vk_render::{Renderer, Scene};
 
 /// One tile of a contact sheet: its scene, label and file, and whether that file is read rather than

@@ -9,8 +9,8 @@ use clap::Args;
 
 use super::sheets::{render_sheets, Arrangement, Sheet, Tile};
 use super::{warn, ImageArgs};
-use vk_render::grid::{Grid, GridParam, GridValue, Shard};
-use vk_render::output::OutputFormat;
+use vk_render::pictures::output::OutputFormat;
+use vk_render::scene::grid::{Grid, GridParam, GridValue, Shard};
 use vk_render::{Renderer, RendererOptions, Scene};
 
 /// What `sweep` and `sheet` share: the scene, the grid of values, the sheet and the image options, which

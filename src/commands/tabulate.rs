@@ -42,7 +42,7 @@ pub fn run(args: TabulateArgs, options: RendererOptions) -> anyhow::Result<()> {
         let fields = rgl::tabulate::tabulate_model(&target.brdf, &description)
             .map_err(|e| anyhow::anyhow!("--material {}: {e}", args.material))?;
         let bytes = rgl::tensor::write(&fields);
-        vk_render::output::write_file(&args.output, &bytes)?;
+        vk_render::pictures::output::write_file(&args.output, &bytes)?;
         println!(
             "{} ({}) tabulated: {} (an RGL file, {} bytes)",
             target.name,
@@ -59,7 +59,7 @@ pub fn run(args: TabulateArgs, options: RendererOptions) -> anyhow::Result<()> {
         }
         brdf => MeasuredTable::tabulate(args.output.clone(), |wi, wo| brdf.eval(glam::Vec3::Z, wi, wo)),
     };
-    vk_render::output::write_file(&args.output, &table.to_bytes())?;
+    vk_render::pictures::output::write_file(&args.output, &table.to_bytes())?;
     println!("{} ({}) tabulated: {} ({FILE_BYTES} bytes)", target.name, describe(&target.brdf), args.output.display());
     Ok(())
 }

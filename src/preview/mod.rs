@@ -22,13 +22,15 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::Key;
 use winit::window::{Window, WindowId};
 
-use crate::frames;
-pub use crate::frames::{draw_motion_frame, motion_scene, scale_up, MOTION_SAMPLES, MOTION_SCALE, SETTLE_FRAMES};
+use crate::render::interactive as frames;
+pub use crate::render::interactive::{
+    draw_motion_frame, motion_scene, scale_up, MOTION_SAMPLES, MOTION_SCALE, SETTLE_FRAMES,
+};
 pub use controls::{key_action, parse_script, Action, Controls, Orbit, ScriptStep, ORBIT_STEP_PIXELS};
 
 use crate::analysis::lobe3d::lobe_on_object;
 use crate::error::{Error, Result};
-use crate::output::TexelOrder;
+use crate::pictures::output::TexelOrder;
 use crate::scene::{Camera, Object, Override, Scene};
 use crate::vulkan::{
     layer_range, layout_transition, whole_image_copy, Access, Buffer, BufferDesc, Instance, ShaderSources, Surface,
@@ -589,7 +591,7 @@ fn save_screenshot(bytes: &[u8], width: u32, height: u32, bgra: bool, path: &Pat
         path: path.to_path_buf(),
         message: "the screenshot has the wrong size".into(),
     })?;
-    crate::output::write_png(&image, path)?;
+    crate::pictures::output::write_png(&image, path)?;
     log::info!("saved {}", path.display());
     Ok(())
 }

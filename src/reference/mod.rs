@@ -23,7 +23,7 @@ use crate::brdf::Brdf;
 use crate::environment::{EnvironmentMap, PlacedEnvironment};
 use crate::error::{Error, Result};
 use crate::mesh::place_objects;
-use crate::output::HdrImage;
+use crate::pictures::output::HdrImage;
 use crate::scene::{Scene, Shape};
 use environment::EnvironmentLight;
 pub use environment::DEFAULT_SAMPLES;
@@ -48,9 +48,9 @@ impl ReferenceImage {
             .pixels
             .iter()
             .zip(&self.standard_errors)
-            .map(|(&mean, &error)| crate::output::levels_moved(mean, error, settings))
+            .map(|(&mean, &error)| crate::pictures::output::levels_moved(mean, error, settings))
             .collect();
-        crate::output::percentile_99(&mut levels)
+        crate::pictures::output::percentile_99(&mut levels)
     }
 
     /// The object-id map as a picture: black background, one distinct colour per object.

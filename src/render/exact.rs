@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::output::{levels_moved, percentile_99};
+use crate::pictures::output::{levels_moved, percentile_99};
 use crate::scene::ImageSettings;
 
 /// Samples a pixel per pass.

@@ -2,7 +2,7 @@
 //! package share, so that both give the same bytes.
 
 use crate::error::Result;
-use crate::output::TermScale;
+use crate::pictures::output::TermScale;
 use crate::scene::Scene;
 
 use super::Renderer;

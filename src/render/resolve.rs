@@ -17,7 +17,7 @@ use ash::vk;
 use super::passes::DEPTH_FORMAT;
 use super::targets::{Targets, BYTES_PER_PIXEL};
 use crate::error::Result;
-use crate::output::TexelOrder;
+use crate::pictures::output::TexelOrder;
 use crate::scene::{Encoding, EnvironmentMode, Scene, Tonemap};
 use crate::vulkan::{
     Descriptor, DescriptorPool, Device, Pipeline, PipelineLayout, Sampler, ShaderCompiler, ShaderModule,

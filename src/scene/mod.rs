@@ -2,7 +2,9 @@
 //!
 //! No GPU types here: a `Scene` is plain data that the Vulkan renderer and the CPU code both read.
 
+pub mod figures;
 mod file;
+pub mod grid;
 mod overrides;
 mod validate;
 

@@ -17,8 +17,8 @@ use vk_render::analysis::lobe::{lobe_angles, lobes, LobeCut};
 use vk_render::analysis::plots::{albedo_chart, albedo_table, lobe_chart, lobe_table, LobeStyle};
 use vk_render::analysis::{rgb, Channel, NamedBrdf};
 use vk_render::brdf::Brdf;
-use vk_render::chart::chart_svg;
-use vk_render::output::png_bytes;
+use vk_render::pictures::chart::chart_svg;
+use vk_render::pictures::output::png_bytes;
 use vk_render::scene::overridden;
 use vk_render::{Renderer, Scene};
 

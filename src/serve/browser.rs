@@ -37,7 +37,7 @@ pub fn shaders_file() -> &'static str {
 
 /// The analytic templates by entry, as `GET /static/brdf-templates.json` hands them out.
 pub fn templates_file() -> &'static str {
-    static TEXT: LazyLock<String> = LazyLock::new(|| table_json(vk_render::webgl::ANALYTIC_TEMPLATES));
+    static TEXT: LazyLock<String> = LazyLock::new(|| table_json(vk_render::render::webgl::ANALYTIC_TEMPLATES));
     TEXT.as_str()
 }
 
@@ -278,7 +278,8 @@ pub fn measured_file(table: &vk_render::brdf::Measured) -> Vec<u8> {
 /// A `.brdf` model's browser shaders as `GET /api/analytic` hands them out (a JSON object by entry name).
 pub fn analytic_file(model: &vk_render::brdf::AnalyticModel) -> Result<Vec<u8>, ApiError> {
     let failed = |e: String| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, format!("{}: {e}", model.name()));
-    let shaders = vk_render::webgl::analytic_shaders(model, &Default::default()).map_err(|e| failed(e.to_string()))?;
+    let shaders =
+        vk_render::render::webgl::analytic_shaders(model, &Default::default()).map_err(|e| failed(e.to_string()))?;
     serde_json::to_vec(&shaders).map_err(|e| failed(e.to_string()))
 }
 

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use anyhow::Context;
-use vk_render::figures::FIGURES;
+use vk_render::scene::figures::FIGURES;
 use vk_render::{Override, Scene};
 
 /// One scene of the catalogue.

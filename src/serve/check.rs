@@ -14,9 +14,9 @@ use serde_json::{json, Value as Json};
 
 use vk_render::check::report::{check_image, decode_image, Checked};
 use vk_render::check::summary::Summary;
-use vk_render::compare::compare;
-use vk_render::output::png_bytes;
-use vk_render::report::Difference;
+use vk_render::pictures::compare::compare;
+use vk_render::pictures::output::png_bytes;
+use vk_render::pictures::report::Difference;
 use vk_render::{Override, Renderer, Scene};
 
 use super::api::{entry, json_object, scene_error};

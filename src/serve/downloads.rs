@@ -99,7 +99,7 @@ pub async fn measured(State(app): State<Arc<App>>, Query(query): Query<TableQuer
 }
 
 /// `GET /api/analytic?scene=ID&material=NAME`: an analytic material's browser shaders (the forward passes'
-/// entries and variants with its model: vk_render::webgl::analytic_shaders), one JSON object by entry name,
+/// entries and variants with its model: vk_render::render::webgl::analytic_shaders), one JSON object by entry name,
 /// translated once per model and kept; the page compiles them as it does /static/shaders.json's.
 pub async fn analytic(State(app): State<Arc<App>>, Query(query): Query<TableQuery>) -> Result<Response, ApiError> {
     let entry = app.catalogue.get(&query.scene).ok_or_else(|| no_scene(&query.scene))?;

@@ -17,7 +17,7 @@ use futures_util::{SinkExt, StreamExt};
 use serde_json::{json, Map, Value as Json};
 use tokio::sync::watch;
 
-use vk_render::frames::motion_scene;
+use vk_render::render::interactive::motion_scene;
 
 use super::api::{json_object, rendered_png, requested_scene};
 use super::app::App;

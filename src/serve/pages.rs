@@ -13,7 +13,7 @@ use super::app::App;
 use super::auth::{sign_in, Access, SESSION_COOKIE};
 
 /// One embedded file: its path under /static/, its type and its bytes. `vk-render.wasm` is the library's
-/// code the editor and a site's check page run (web/, built for WebAssembly by build.rs).
+/// code the editor and a site's check page run (crates/web/, built for WebAssembly by build.rs).
 const STATIC: &[(&str, &str, &[u8])] = &[
     ("style.css", "text/css; charset=utf-8", include_bytes!("pages/style.css")),
     ("site.js", "text/javascript; charset=utf-8", include_bytes!("pages/site.js")),

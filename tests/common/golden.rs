@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use vk_render::figures::FIGURES;
+use vk_render::scene::figures::FIGURES;
 use vk_render::{Override, Scene};
 
 /// The folder of the golden PNGs.

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::{Mutex, MutexGuard, OnceLock};
 
-use vk_render::compare::{compare, silhouette_band, write_failure_images, Comparison};
+use vk_render::pictures::compare::{compare, silhouette_band, write_failure_images, Comparison};
 use vk_render::{reference, HdrImage, Override, Renderer, RendererOptions, Scene};
 
 /// A `.brdf` model the project ships (`assets/brdfs/FILE`).

@@ -16,7 +16,7 @@ use vk_render::check::catalogue::{Mistake, CATALOGUE};
 use vk_render::check::report::check_image;
 use vk_render::check::summary::Summary;
 use vk_render::check::{diagnose, render_candidates};
-use vk_render::figures::practical_image;
+use vk_render::scene::figures::practical_image;
 
 /// The figures the catalogue's mistakes show on.
 const FIGURES: [&str; 6] = [

@@ -6,7 +6,7 @@
 //! each line at its own line), for the renderer's Vulkan shaders or for the browser's WebGL2 ones
 //! ([`Target`]). This crate needs no device, so that the same code runs in the renderer (`vk-render`'s
 //! `brdf::analytic`, which compiles the result) and, compiled to WebAssembly, in the page where a student
-//! writes a model (`web/`, whose browser compiles the result).
+//! writes a model (`crates/web/`, whose browser compiles the result).
 
 mod glsl;
 mod names;

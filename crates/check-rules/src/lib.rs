@@ -1,7 +1,7 @@
 //! How `vk-render check` judges a student's image: against the exact render and each mistake's render at
 //! the image's size, compared in a way JPEG cannot fool, and ranked by how well each explains it. No device
 //! here: vk-render renders the candidates and decides with this crate (src/check), and the browser's check
-//! page (a `vk-render site` folder) decides with the same crate compiled to WebAssembly (`web/`), against
+//! page (a `vk-render site` folder) decides with the same crate compiled to WebAssembly (`crates/web/`), against
 //! renders made at `site` time, so that the two verdicts cannot differ by a rule. What the check shows beside
 //! its verdict (the statistics per region, the map of differences and where they are worst) is made here too.
 

@@ -3,7 +3,7 @@
 //! estimate. This crate holds the decisions (which cells, which to cut, when to stop, the sums) and needs no
 //! device: the renderer's albedo probe (`shaders/brdf_albedo.comp`) integrates its cells in vk-render, the
 //! browser's (`shaders/web/albedo.frag`, the same cell integral) in the explore page, which runs this crate
-//! as WebAssembly (`web/`), so that both state the same albedo within the same bound.
+//! as WebAssembly (`crates/web/`), so that both state the same albedo within the same bound.
 //!
 //! The hemisphere of wi is cut into cells in (theta_i, phi_i). On each the probe returns the 15-point
 //! Kronrod estimate and the 7-point Gauss estimate embedded in it; their difference bounds the error of the

@@ -1,23 +1,23 @@
 //! Testing a material's own sampler, `material_sample` and `material_pdf` of the GLSL the exact mode draws
 //! from, as `vk-render sampling` runs it: for each view direction the samples are drawn on the GPU, then
 //! - Pearson's χ² of their counts on an equal-area grid against the density integrated over each cell
-//!   ([`cubature`]), the samples returned as none (below the surface) one more cell, holding the density's
+//!   ([`cell_integrals`]), the samples returned as none (below the surface) one more cell, holding the density's
 //!   shortfall: [`crate::analysis::chi2`];
 //! - the density's integral over the sphere, at most 1, and nothing below the surface;
 //! - the estimator: the mean of f_r cos θi / pdf over the samples against the directional albedo, f_r cos θi
-//!   integrated by the same cubature (the probe's `brdf_eval` on the GPU), within the mean's noise;
+//!   integrated by the same rules (the probe's `brdf_eval` on the GPU), within the mean's noise;
 //! - the BRDF: energy (the directional albedo at most 1) and reciprocity ([`reciprocity`]).
 //!
 //! Every test at one level α for the family (Šidák's correction over the views and the χ² and estimator tests
 //! each makes).
 
-pub mod cubature;
+pub mod cell_integrals;
 pub mod reciprocity;
 pub mod report;
 
 use glam::{DVec3, Vec3};
 
-use self::cubature::{integrate_cells, CellIntegrals, Integrand};
+use self::cell_integrals::{integrate_cells, CellIntegrals, Integrand};
 use self::reciprocity::Reciprocity;
 use super::chi2::{chi_square, coordinates, gamma_q, sidak_level, ChiSquare, SphereGrid};
 use crate::brdf::Brdf;
@@ -266,7 +266,7 @@ fn test_view(renderer: &mut Renderer, brdf: &Brdf, view: (f64, f64), samples: u6
     for &(cos_theta, phi) in &tally.coordinates {
         histogram[GRID.cell_at(cos_theta, phi)] += 1;
     }
-    // The no-sample draws are one more cell, expecting the density's shortfall, when the cubature knows it
+    // The no-sample draws are one more cell, expecting the density's shortfall, when the cells' integration knows it
     // to a tenth of its noise (a sharp lobe's float32 density at a grazing view is too noisy to integrate to
     // one sample in 10⁶: then the shortfall shows in every cell instead).
     let shortfall = (1.0 - cells.probability.iter().sum::<f64>()).max(0.0);
@@ -301,7 +301,7 @@ fn test_view(renderer: &mut Renderer, brdf: &Brdf, view: (f64, f64), samples: u6
     })
 }
 
-/// Whether the cubature knows the density's shortfall from 1 to a tenth of the no-sample count's noise.
+/// Whether the cells' integration knows the density's shortfall from 1 to a tenth of the no-sample count's noise.
 fn shortfall_is_known(cells: &CellIntegrals, samples: u64) -> bool {
     let n = samples as f64;
     let shortfall = (1.0 - cells.probability.iter().sum::<f64>()).max(0.0) * n;
@@ -389,7 +389,7 @@ pub fn normal_quantile(level: f64) -> f64 {
 const FLOAT_ERROR: f64 = 1e-4;
 
 /// The same where the integrals were taken in double precision: the rounding of their sums over the pieces and
-/// cells, which the cubature's bound does not count (a density of exactly 1 sums to a few ulps above it).
+/// cells, which the integration's bound does not count (a density of exactly 1 sums to a few ulps above it).
 const DOUBLE_ERROR: f64 = 1e-12;
 
 /// A view's verdicts: χ², the density's integral and support, the samples, the estimator, energy.

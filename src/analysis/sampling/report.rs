@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{SamplingReport, ViewOutcome, GRID};
-use crate::chart::{short_number, text, Chart, Drawn};
+use crate::pictures::chart::{short_number, text, Chart, Drawn};
 
 /// The difference map's ends, in standard deviations of a cell's count.
 const DEVIATIONS: f64 = 5.0;

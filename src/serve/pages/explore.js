@@ -88,7 +88,7 @@ function stillFromServer() {
 // How long the controls rest before the still frame is drawn or asked for (the server's SETTLE,
 // src/serve/explore.rs).
 const SETTLE_MS = 150;
-// A motion frame's size, a fraction of the picture's: the server's motion frames' (src/frames.rs,
+// A motion frame's size, a fraction of the picture's: the server's motion frames' (src/render/interactive.rs,
 // MOTION_SCALE), scaled up to the picture by the page, and drawn with the objects' lighter meshes
 // (src/mesh/motion.rs). A CPU's WebGL (SwiftShader) shades a pixel of the bunny's one-pixel triangles several
 // times over (2 x 2 quads) and sets up each of its triangles: half the size, a third of the shading.

@@ -1,8 +1,8 @@
-// The library's own code in the browser, as WebAssembly (static/vk-render.wasm, built from web/ by build.rs):
+// The library's own code in the browser, as WebAssembly (static/vk-render.wasm, built from crates/web/ by build.rs):
 // what the explore page's editor and a site's check page call.
 "use strict";
 
-// The library's code compiled to WebAssembly (web/src/lib.rs): the `.brdf` reader, a text in and a JSON
+// The library's code compiled to WebAssembly (crates/web/src/lib.rs): the `.brdf` reader, a text in and a JSON
 // answer out, the albedo's cubature (crates/cubature) and the check's rules (crates/check-rules), an image
 // file in. Loaded once, at its first use (library()).
 class WasmLibrary {

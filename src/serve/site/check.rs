@@ -11,7 +11,7 @@ use serde_json::{json, Value as Json};
 
 use vk_render::check::catalogue::{Mistake, CATALOGUE};
 use vk_render::check::render_candidates;
-use vk_render::output::png_bytes;
+use vk_render::pictures::output::png_bytes;
 use vk_render::Renderer;
 
 use super::folder::put;

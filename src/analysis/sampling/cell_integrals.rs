@@ -1,10 +1,12 @@
-//! A sampler's density and f_r cos θi integrated over each cell of the χ² grid, by adaptive cubature: each
+//! A sampler's density and f_r cos θi integrated over each cell of the χ² grid, by adaptive rules: each
 //! piece of a cell is integrated by Gauss-Legendre's six-point rule in cos θ and φ (the solid angle is
 //! dcos θ dφ, so the rule needs no Jacobian), whole and in halves along either axis, whose disagreement
 //! bounds the error. While a cell's bounds add up to more than its count's tolerance (a tenth of its noise),
 //! or all the cells' to more than the no-sample count's, or f_r cos θi's to more than the albedo's, the
 //! pieces of largest bound are cut in two along the axis where the halves disagree most, their halves'
-//! integrals becoming the new pieces' wholes: global adaptive cubature, as QUADPACK's QAG refines.
+//! integrals becoming the new pieces' wholes: global adaptive integration, as QUADPACK's QAG refines. (The
+//! directional albedo's cubature, crates/cubature, is another integrator: Gauss-Kronrod cells of the
+//! hemisphere cut in four.)
 //!
 //! A lobe narrower than the rule's nodes is invisible to both estimates, which then agree on nothing (GGX of
 //! α = 10⁻⁴ seen head-on spans 10⁻⁸ of cos θ below the pole, in a cell 0.025 high). The samples show where

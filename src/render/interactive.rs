@@ -6,11 +6,11 @@
 //! frame, shown once there are enough of them to judge, until the exact mode's own bound says it is done: the
 //! image `vk-render render` makes in the exact mode.
 
+use super::Renderer;
 use crate::error::Result;
-use crate::output::{encode_texels, TexelOrder};
+use crate::pictures::output::{encode_texels, TexelOrder};
 use crate::render::exact::{Passes, MIN_PASSES};
 use crate::scene::{Environment, EnvironmentMode, Scene};
-use crate::Renderer;
 
 /// Frames a scene must stay unchanged before the exact frame replaces the motion frames: a drag pauses
 /// between mouse events, and an exact frame drawn in such a pause would make the next motion frame late.

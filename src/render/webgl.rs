@@ -3,7 +3,7 @@
 //! at run time ([`analytic_shaders`]): a `.brdf` file is read when a scene is, so its shaders cannot be
 //! translated before.
 
-#[path = "../build/webgl.rs"]
+#[path = "../../build/webgl.rs"]
 pub mod translation;
 
 use std::collections::BTreeMap;

@@ -5,9 +5,9 @@
 use check_rules::{viridis, DifferenceMap};
 use image::{Rgb, RgbImage};
 
-use crate::compare::{compare, Comparison};
-use crate::sheet::paste;
-use crate::text::{draw_text, text_width};
+use crate::pictures::compare::{compare, Comparison};
+use crate::pictures::sheet::paste;
+use crate::pictures::text::{draw_text, text_width};
 
 const GAP: u32 = 12;
 const LABEL: f32 = 17.0;

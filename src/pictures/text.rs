@@ -5,7 +5,7 @@ use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 use image::{Rgb, RgbImage};
 
 /// DejaVu Sans (Bitstream Vera licence: assets/fonts/LICENSE-DejaVu.txt).
-pub static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+pub static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
 fn font() -> Option<FontRef<'static>> {
     FontRef::try_from_slice(FONT).ok()

@@ -10,9 +10,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::output::{write_file, write_png};
+use crate::pictures::output::{write_file, write_png};
 
-/// The family name the embedded font ([`crate::text::FONT`]) is registered under, once.
+/// The family name the embedded font ([`crate::pictures::text::FONT`]) is registered under, once.
 const FAMILY: &str = "sans-serif";
 
 /// A distinct colour per series (Tableau 10), taken in turn.
@@ -109,7 +109,7 @@ fn register_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         // The font is part of the binary: it parses, or the build is broken (a test draws every chart).
-        if plotters::style::register_font(FAMILY, FontStyle::Normal, crate::text::FONT).is_err() {
+        if plotters::style::register_font(FAMILY, FontStyle::Normal, crate::pictures::text::FONT).is_err() {
             log::error!("the embedded font does not parse: charts will have no text");
         }
     });

@@ -3,7 +3,7 @@
 
 use image::{Rgb, RgbImage};
 
-use crate::text::{draw_text, text_width};
+use crate::pictures::text::{draw_text, text_width};
 
 /// The labels' and title's text size in pixels (DejaVu Sans, anti-aliased).
 const TEXT: f32 = 18.0;

@@ -54,7 +54,7 @@ pub struct Figure {
 
 macro_rules! image {
     ($file:literal, $label:literal) => {
-        FigureImage { file: $file, label: $label, text: include_str!(concat!("../assets/scenes/", $file)) }
+        FigureImage { file: $file, label: $label, text: include_str!(concat!("../../assets/scenes/", $file)) }
     };
 }
 
