@@ -14,7 +14,7 @@ CARGO ?= cargo
 BIN := $(or $(CARGO_TARGET_DIR),target)/release/vk-render
 OUT ?= out
 
-.PHONY: all setup setup-test build render test test-long test-python wheel test-current bench bench-sampling bench-fit bench-serve bench-peer bench-python bless clean
+.PHONY: all setup setup-test build render test test-suite test-long test-python wheel test-current bench bench-sampling bench-fit bench-serve bench-peer bench-python bless clean
 
 all: render
 
@@ -48,7 +48,14 @@ test: setup-test
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --release --locked --no-deps --lib
 	$(CARGO) bench --locked --no-run
 	$(CARGO) check --release --locked --no-default-features
-	CARGO="$(CARGO)" VK_RENDER_TEST_PYTHON=1 VK_RENDER_WHEEL="$(VK_RENDER_WHEEL)" scripts/run-tests.sh --release --locked
+	$(TEST_SUITE)
+
+## test-suite: make test's tests without its compile-only checks (the API reference, the benchmarks, the
+## build without the preview), which read the same sources on any stack: what the Debian 13 stage runs
+TEST_SUITE = CARGO="$(CARGO)" VK_RENDER_TEST_PYTHON=1 VK_RENDER_WHEEL="$(VK_RENDER_WHEEL)" \
+	scripts/run-tests.sh --release --locked
+test-suite: setup-test
+	$(TEST_SUITE)
 
 ## test-long: the long tests, which CI runs after `make test` (scripts/run-tests.sh --long: the tests marked
 ## #[ignore = "long: ..."]): the samplers' chi-square over each model's whole range at every view, every
@@ -68,12 +75,13 @@ test-python: setup-test
 wheel: setup
 	@scripts/build-wheel.sh >/dev/null
 
-## test-current: `make test` again in a Debian 13 root (Mesa 25 lavapipe, validation layer 1.4), made once
-## from Debian's packages and cached (scripts/stage-current.sh; needs root or sudo); its Python tests run
-## against the wheel built here (on Debian 12 in CI), installed there without cargo on PATH
+## test-current: `make test-suite` in a Debian 13 root (Mesa 25 lavapipe, validation layer 1.4), made once
+## from Debian's packages and cached (scripts/stage-current.sh; needs root or sudo), built there with the
+## README's own steps; its Python tests run against the wheel built here (on Debian 12 in CI), installed
+## there without cargo on PATH
 WHEELS := $(abspath $(or $(CARGO_TARGET_DIR),target))/wheels
 test-current: wheel
-	scripts/stage-current.sh test VK_RENDER_WHEEL="$$(ls $(WHEELS)/vk_render-*.whl)"
+	scripts/stage-current.sh test-suite VK_RENDER_WHEEL="$$(ls $(WHEELS)/vk_render-*.whl)"
 
 ## bench: the renderer's benchmark (median of 9 runs each); `scripts/stage-current.sh bench` on Debian 13
 bench: setup

@@ -6,7 +6,7 @@
 //! defaults), which the page defines per program. An entry's variants (`// variant: A+B`, as build.rs
 //! compiles them for the renderer) are translated too, as `FILE+A+B` (the environment's, WITH_ENVIRONMENT, in
 //! its fast mode alone: common/environment.glsl). Used by build.rs, by the server for an analytic model's
-//! entries (src/webgl.rs), and by the browser test, which translates shaders broken on purpose to show that its
+//! entries (src/render/webgl.rs), and by the browser test, which translates shaders broken on purpose to show that its
 //! comparison catches them.
 
 use std::path::{Path, PathBuf};
@@ -14,7 +14,7 @@ use std::process::Command;
 
 /// The entries that evaluate a material's BRDF in the browser's passes: the forward passes, and the probes
 /// (the page's lobe and albedo of a model). An analytic model's are translated with it: on the server per
-/// `.brdf` file (src/webgl.rs), and at build time as templates for the browser's own editor
+/// `.brdf` file (src/render/webgl.rs), and at build time as templates for the browser's own editor
 /// ([`translate_templates`]).
 pub const ANALYTIC_ENTRIES: [&str; 4] = ["forward.frag", "forward_sphere.frag", "web/probe.frag", "web/albedo.frag"];
 
@@ -186,7 +186,7 @@ fn translate_one(
 /// Translates the SPIR-V file `spirv` of entry `entry` (its stage the last extension of the file's name,
 /// before any `+VARIANT`) to GLSL ES 3.00 in the file `es` (whose last extension must be the stage, which
 /// glslangValidator reads), and checks it with glslangValidator when `validate` is set. Used at build time for
-/// the renderer's entries and at run time for an analytic model's (src/webgl.rs).
+/// the renderer's entries and at run time for an analytic model's (src/render/webgl.rs).
 pub fn to_glsl_es(spirv: &Path, es: &Path, entry: &str, validate: bool, tools: &Tools) -> Result<(), String> {
     let stage = entry.split('+').next().unwrap_or(entry).rsplit('.').next().unwrap_or_default();
     let mut translate = Command::new(&tools.spirv_cross);

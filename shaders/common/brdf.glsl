@@ -5,10 +5,9 @@
 //
 // The forward pass fixes the BRDF when it builds a pipeline (BRDF_SPECIALIZED, a specialization constant):
 // a CPU rasterizer such as lavapipe runs both sides of a branch with the lanes that do not take it masked
-// off, so a switch over the material's id evaluated all five models for every fragment (measured: Figure 1's
-// plane shaded in 22 ms instead of 17 at 600 x 400 x 4). The probe passes fix it too, one pipeline per BRDF
-// (src/render/probe.rs): compiled with every case live, their one pipeline took 1.6 s to build instead of
-// 0.7 once the measured lookup was among them.
+// off, so a switch over the material's id would evaluate every model for every fragment. The probe passes
+// fix it too, one pipeline per BRDF (src/render/probe.rs): with every case live, lavapipe compiles them all,
+// the measured lookup's among them, for every pipeline.
 //
 // An analytic model (a user's .brdf file, src/brdf/analytic/) is compiled in only where ANALYTIC_BRDF is
 // defined, at run time, with brdf/analytic.glsl made from the file: one compilation per file and entry

@@ -444,7 +444,7 @@ mod tests {
 
     #[test]
     fn pixel_rays_are_the_reference_cameras_rays() {
-        // The reference's rays (src/reference.rs), written out: through pixel centres of a 600 x 400 image.
+        // The reference's rays (src/reference/mod.rs), written out: through pixel centres of a 600 x 400 image.
         let camera = Camera {
             position: Vec3::new(1.0, 2.0, -3.0),
             look_at: Vec3::new(0.5, -0.2, 4.0),

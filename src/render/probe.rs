@@ -84,8 +84,8 @@ pub(super) const EVALUATIONS_PER_DISPATCH: usize = 1 << 20;
 ///
 /// Each pipeline fixes its BRDF (brdf.glsl's `BRDF_SPECIALIZED`), as the forward pass's do: lavapipe compiles
 /// every case of a switch on a value it does not know, and runs them all with the lanes that do not take
-/// them masked off. With the measured lookup among them, building the one pipeline that read the id from the
-/// material took 1.6 s instead of 0.7 (measured on Debian 12's lavapipe), for every process that probes.
+/// them masked off: one pipeline reading the id from the material would compile the measured lookup too, in
+/// every process that probes, whatever it probes.
 /// An analytic model's pipelines are built from the shader compiled at run time with its GLSL.
 pub struct ProbePass {
     eval: Shader,
