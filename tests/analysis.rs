@@ -546,3 +546,36 @@ fn a_sharp_lobes_double_form_is_made_from_the_glsl_that_renders() {
     let right = ggx_albedo_over_half_vectors(0.02f32.into(), 0.5, theta_o, 240);
     assert!((albedo.rho[0] - right).abs() > 100.0 * albedo.error_bound, "{albedo:?} against {right}");
 }
+
+#[test]
+fn sharp_phong_and_blinn_phong_lobes_are_within_their_stated_bounds() {
+    // The course's Phong lobe times cos(theta_i) is cos^s about the mirror of wo, which integrates to
+    // 2 pi / (s + 1) wherever the lobe clears the horizon (at s = 3e4, e^-114 of it lies past 85 degrees);
+    // Blinn-Phong's, seen head-on, to 8 pi (1 - 2^(-(s + 2) / 2)) / (s + 2) (worked by hand above). At these
+    // exponents the lobes are narrower than GGX's alpha 0.01 (sqrt(2 / (s + 2))) and are integrated in double
+    // precision; each value within its own stated bound, with no float allowance. (In float32 they hold too:
+    // the cosine power about the mirror does not cancel as GGX's wi + wo does; the rule is GGX's, and safe.)
+    for s in [3e4f64, 1e5] {
+        let s32 = f64::from(s as f32);
+        let phong = Brdf::Phong { kd: Vec3::ZERO, ks: Vec3::ONE, shininess: s as f32 };
+        let degrees = [0.0, 40.0, 85.0];
+        for (albedo, angle) in albedos(&phong, &degrees).iter().zip(degrees) {
+            let expected = 2.0 * PI / (s32 + 1.0);
+            assert!(
+                albedo.error_bound <= ALBEDO_TOLERANCE && (albedo.rho[0] - expected).abs() <= albedo.error_bound,
+                "phong s {s} at {angle} degrees: {} ± {:.1e}, expected {expected}",
+                albedo.rho[0],
+                albedo.error_bound
+            );
+        }
+        let blinn = Brdf::BlinnPhong { kd: Vec3::ZERO, ks: Vec3::ONE, shininess: s as f32 };
+        let albedo = albedos(&blinn, &[0.0])[0];
+        let expected = 8.0 * PI * (1.0 - 2f64.powf(-(s32 + 2.0) / 2.0)) / (s32 + 2.0);
+        assert!(
+            albedo.error_bound <= ALBEDO_TOLERANCE && (albedo.rho[0] - expected).abs() <= albedo.error_bound,
+            "blinn-phong s {s}: {} ± {:.1e}, expected {expected}",
+            albedo.rho[0],
+            albedo.error_bound
+        );
+    }
+}
