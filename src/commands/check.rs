@@ -87,7 +87,7 @@ fn check(args: &CheckArgs, options: RendererOptions) -> anyhow::Result<bool> {
     print_summary(&summary, &scene, (mine_path, scene_name, mine.dimensions()));
     let diagnosis = &checked.diagnosis;
     let exact = checked.exact();
-    let diagnosed = summary.mistakes.first().filter(|_| matches!(summary.verdict, "mistake" | "tie"));
+    let diagnosed = summary.mistakes.first();
     if let Some(report) = &args.output {
         let difference = Difference::of(&mine, exact);
         let mut panels = vec![

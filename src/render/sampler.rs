@@ -123,16 +123,15 @@ impl ProbePass {
             self.density64 = Some(shader.with_double_models());
         }
         let Some(shader) = self.density64.as_mut() else { return Ok(None) };
-        let pipeline = match shader.pipeline(&self.device, context.compiler, &variant(brdf)) {
-            Ok(pipeline) => pipeline,
-            Err(Error::Shader { log, .. }) if model.is_some() => {
-                if let Some(model) = model {
-                    log::info!("{}: no double-precision evaluation ({log})", model.0.name());
-                    self.without_double.insert(model);
-                }
+        // A .brdf file whose GLSL does not compile in double is integrated in float; the built-in models' must.
+        let pipeline = match (shader.pipeline(&self.device, context.compiler, &variant(brdf)), model) {
+            (Ok(pipeline), _) => pipeline,
+            (Err(Error::Shader { log, .. }), Some(model)) => {
+                log::info!("{}: no double-precision evaluation ({log})", model.0.name());
+                self.without_double.insert(model);
                 return Ok(None);
             }
-            Err(e) => return Err(e),
+            (Err(e), _) => return Err(e),
         };
         let mut values = Vec::with_capacity(directions.len());
         for part in directions.chunks(per_dispatch) {
