@@ -364,7 +364,7 @@ fn explorers(server: &Server) {
                     ("fig3-plastic-s-16", 2, "plastic", "shininess"),
                     ("fig5-golden-bunny", 2, "gold", "roughness"),
                 ][k % 3];
-                for file in ["/explore", "/static/style.css", "/static/common.js", "/static/webgl.js", "/static/explore.js", "/static/shaders.json", "/api/scenes"] {
+                for file in ["/explore", "/static/style.css", "/static/common.js", "/static/renderer/renderer.js", "/static/explore.js", "/static/shaders.json", "/api/scenes"] {
                     ask("page", "GET", &format!("{file}{}", if file == "/explore" { format!("?scene={scene}") } else { String::new() }), b"");
                 }
                 for object in 0..objects {

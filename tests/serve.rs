@@ -774,8 +774,9 @@ fn the_site_is_the_servers_pages_and_its_data_as_files() {
     for (file, path) in [
         ("explore.html", "/explore"),
         ("check.html", "/check"),
-        ("static/webgl.js", "/static/webgl.js"),
-        ("static/editor.js", "/static/editor.js"),
+        ("static/renderer/blocks.js", "/static/renderer/blocks.js"),
+        ("static/explore/frames.js", "/static/explore/frames.js"),
+        ("static/explore/editor.js", "/static/explore/editor.js"),
         ("static/brdf-templates.json", "/static/brdf-templates.json"),
         ("static/vk-render.wasm", "/static/vk-render.wasm"),
     ] {

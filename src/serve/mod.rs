@@ -176,7 +176,8 @@ fn router(app: Arc<App>, deadline: Duration) -> Router {
         .route("/signin", get(pages::sign_in_query).post(pages::sign_in_form))
         .route("/static/shaders.json", get(downloads::shaders))
         .route("/static/brdf-templates.json", get(downloads::templates))
-        .route("/static/{name}", get(pages::asset));
+        .route("/static/{name}", get(pages::asset))
+        .route("/static/{folder}/{name}", get(pages::asset_in_folder));
     let json_api = Router::new()
         .route("/api/scenes", get(api::scenes))
         .route("/api/status", get(api::status))

@@ -12,21 +12,35 @@ use serde::Deserialize;
 use super::app::App;
 use super::auth::{sign_in, Access, SESSION_COOKIE};
 
-/// One embedded file: its path under /static/, its type and its bytes. `vk-render.wasm` is the library's
-/// code the editor and a site's check page run (crates/web/, built for WebAssembly by build.rs).
+/// One embedded file: its path under /static/, its type and its bytes. The scripts are ES modules, the
+/// browser's renderer in renderer/ and the explore page's parts in explore/; `vk-render.wasm` is the
+/// library's code the editor and a site's check page run (crates/web/, built for WebAssembly by build.rs).
 const STATIC: &[(&str, &str, &[u8])] = &[
     ("style.css", "text/css; charset=utf-8", include_bytes!("pages/style.css")),
-    ("site.js", "text/javascript; charset=utf-8", include_bytes!("pages/site.js")),
-    ("common.js", "text/javascript; charset=utf-8", include_bytes!("pages/common.js")),
-    ("explore.js", "text/javascript; charset=utf-8", include_bytes!("pages/explore.js")),
-    ("webgl.js", "text/javascript; charset=utf-8", include_bytes!("pages/webgl.js")),
-    ("wasm.js", "text/javascript; charset=utf-8", include_bytes!("pages/wasm.js")),
-    ("editor.js", "text/javascript; charset=utf-8", include_bytes!("pages/editor.js")),
-    ("check.js", "text/javascript; charset=utf-8", include_bytes!("pages/check.js")),
-    ("report.js", "text/javascript; charset=utf-8", include_bytes!("pages/report.js")),
     ("icon.svg", "image/svg+xml", include_bytes!("pages/icon.svg")),
+    ("site.js", JAVASCRIPT, include_bytes!("pages/site.js")),
+    ("common.js", JAVASCRIPT, include_bytes!("pages/common.js")),
+    ("wasm.js", JAVASCRIPT, include_bytes!("pages/wasm.js")),
+    ("explore.js", JAVASCRIPT, include_bytes!("pages/explore.js")),
+    ("explore/state.js", JAVASCRIPT, include_bytes!("pages/explore/state.js")),
+    ("explore/frames.js", JAVASCRIPT, include_bytes!("pages/explore/frames.js")),
+    ("explore/controls.js", JAVASCRIPT, include_bytes!("pages/explore/controls.js")),
+    ("explore/studies.js", JAVASCRIPT, include_bytes!("pages/explore/studies.js")),
+    ("explore/charts.js", JAVASCRIPT, include_bytes!("pages/explore/charts.js")),
+    ("explore/editor.js", JAVASCRIPT, include_bytes!("pages/explore/editor.js")),
+    ("renderer/renderer.js", JAVASCRIPT, include_bytes!("pages/renderer/renderer.js")),
+    ("renderer/bindings.js", JAVASCRIPT, include_bytes!("pages/renderer/bindings.js")),
+    ("renderer/blocks.js", JAVASCRIPT, include_bytes!("pages/renderer/blocks.js")),
+    ("renderer/math.js", JAVASCRIPT, include_bytes!("pages/renderer/math.js")),
+    ("renderer/resources.js", JAVASCRIPT, include_bytes!("pages/renderer/resources.js")),
+    ("renderer/passes.js", JAVASCRIPT, include_bytes!("pages/renderer/passes.js")),
+    ("renderer/probe.js", JAVASCRIPT, include_bytes!("pages/renderer/probe.js")),
+    ("check.js", JAVASCRIPT, include_bytes!("pages/check.js")),
+    ("report.js", JAVASCRIPT, include_bytes!("pages/report.js")),
     ("vk-render.wasm", "application/wasm", include_bytes!(concat!(env!("OUT_DIR"), "/vk-render.wasm"))),
 ];
+
+const JAVASCRIPT: &str = "text/javascript; charset=utf-8";
 
 /// The pages and scripts a folder of `vk-render site` holds, by their paths in it: the same files as the
 /// server's (its own `static/site.js` aside, which the site writes), where the pages' relative links find them.
@@ -78,7 +92,16 @@ pub async fn report() -> Response {
 
 /// `GET /static/NAME`.
 pub async fn asset(axum::extract::Path(name): axum::extract::Path<String>) -> Response {
-    match STATIC.iter().find(|(file, _, _)| *file == name) {
+    embedded(&name)
+}
+
+/// `GET /static/FOLDER/NAME`: a module of the browser's renderer or of the explore page.
+pub async fn asset_in_folder(axum::extract::Path((folder, name)): axum::extract::Path<(String, String)>) -> Response {
+    embedded(&format!("{folder}/{name}"))
+}
+
+fn embedded(path: &str) -> Response {
+    match STATIC.iter().find(|(file, _, _)| *file == path) {
         Some((_, kind, text)) => {
             ([(header::CONTENT_TYPE, *kind), (header::CACHE_CONTROL, "no-cache")], *text).into_response()
         }

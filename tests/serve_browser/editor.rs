@@ -1,4 +1,4 @@
-//! The explore page's editor of a student's own `.brdf` (static/editor.js), in the browser of the explore
+//! The explore page's editor of a student's own `.brdf` (static/explore/editor.js), in the browser of the explore
 //! test: the model typed into the page is read by the library's code as WebAssembly, compiled by the
 //! browser's WebGL2 and drawn as `vk-render render` renders the downloaded file (within the explorer's
 //! bound), its parameters moved by the page as `--set` moves them; its lobe, by the browser, is `vk-render

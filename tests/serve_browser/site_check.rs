@@ -51,10 +51,10 @@ fn check_in_page(browser: &Browser, name: &str, bytes: &[u8], figure: &str) -> V
 }
 
 fn answer(browser: &Browser) -> Value {
-    let done = "return lastCheck !== null || document.getElementById('error').textContent !== '';";
+    let done = "return checkPage.last !== null || document.getElementById('error').textContent !== '';";
     browser.wait_for("the check in the page", done, Duration::from_secs(60));
     browser.run(
-        "return lastCheck ? {report: lastCheck.report, seconds: lastCheck.seconds,
+        "return checkPage.last ? {report: checkPage.last.report, seconds: checkPage.last.seconds,
                              needs: [...document.querySelectorAll('[data-needs-renderer]')].map((p) => p.dataset.needsRenderer),
                              pictures: [...document.querySelectorAll('#site-report img')].map((i) => i.dataset.picture)}
                           : {error: document.getElementById('error').textContent};",
@@ -167,7 +167,7 @@ pub fn the_check_in_the_browser(browser: &Browser, url: &str, folder: &Path) {
         "const transfer = new DataTransfer();
          transfer.items.add(new File([new Uint8Array(50 << 20)], 'huge.png', {type: 'image/png'}));
          document.getElementById('drop').dispatchEvent(new DragEvent('drop', {dataTransfer: transfer, bubbles: true, cancelable: true}));
-         lastCheck = null;
+         checkPage.last = null;
          document.getElementById('submit').click();",
         &[],
     );

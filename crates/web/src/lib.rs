@@ -2,7 +2,7 @@
 //! vk-render's build.rs for wasm32-unknown-unknown): the explore page's editor reads a student's `.brdf`
 //! file and wraps its shader for the page's WebGL2 with the very code the renderer uses (crates/brdf-file),
 //! and reads the browser's compiler messages back to the file's own lines and names. Nothing is sent
-//! anywhere: the page compiles the result itself (static/editor.js). It also runs the albedo's cubature
+//! anywhere: the page compiles the result itself (static/explore/editor.js). It also runs the albedo's cubature
 //! (crates/cubature) for the page's WebGL2 albedo probe (`albedo`), and the check of a student's image by
 //! `vk-render check`'s rules (crates/check-rules) for a site's check page (`check`).
 //!

@@ -1,12 +1,12 @@
 // What every page of vk-render serve and of a folder of vk-render site shares: the API's calls (or the
 // folder's files in their place: site.js's SITE) and small DOM helpers.
-"use strict";
+import { SITE } from "./site.js";
 
 // The address of a piece of a scene's data: the API's under `vk-render serve`; in a folder `vk-render site`
 // wrote, the file it wrote for it (src/serve/site/mod.rs names them so), relative to the page. `kind` is the
 // API's route (scenes, mesh, measured, analytic, environment, environment-albedo); a material is named by
 // the number the folder's scene list gives it.
-function dataUrl(kind, scene, query = {}) {
+export function dataUrl(kind, scene, query = {}) {
   if (!SITE) {
     const parameters = new URLSearchParams(scene ? { scene: scene.id, ...query } : query).toString();
     return `/api/${kind}${parameters ? "?" + parameters : ""}`;
@@ -33,7 +33,7 @@ document.addEventListener("DOMContentLoaded", () => {
 });
 
 // A POST of JSON to the API; the answer as a Blob, or an Error with the server's one line.
-async function postJson(path, body) {
+export async function postJson(path, body) {
   const response = await fetch(path, {
     method: "POST",
     headers: { "Content-Type": "application/json" },
@@ -43,14 +43,14 @@ async function postJson(path, body) {
   return response;
 }
 
-async function getJson(path) {
+export async function getJson(path) {
   const response = await fetch(path);
   if (!response.ok) throw new Error((await response.text()).trim() || response.statusText);
   return response.json();
 }
 
 // An element with attributes and children (strings become text: nothing is parsed as HTML).
-function el(tag, attributes, ...children) {
+export function el(tag, attributes, ...children) {
   const node = document.createElement(tag);
   for (const [key, value] of Object.entries(attributes || {})) {
     if (key === "class") node.className = value;
@@ -62,7 +62,7 @@ function el(tag, attributes, ...children) {
 }
 
 // A number shown to `digits` significant digits without trailing zeros.
-function shown(value, digits = 3) {
+export function shown(value, digits = 3) {
   if (typeof value !== "number") return String(value);
   return Number(value.toPrecision(digits)).toString();
 }

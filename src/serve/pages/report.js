@@ -2,7 +2,7 @@
 // beside the exact one, the difference as a heat map (viridis: it reads in grey and for colour-blind
 // readers) and a magnifier on the worst region. The server's report page (/reports/ID) shows a report the
 // API kept; a site's check page (check.js) one its WebAssembly made, with the same showReport.
-"use strict";
+import { el, getJson, shown } from "./common.js";
 
 function verdictLine(report) {
   if (report.matches) return "matches: your image is the exact one within the tolerance";
@@ -77,7 +77,7 @@ function magnifier(report, picture) {
 
 // The report into `target`: `picture(name)` the address of each picture ("yours", "exact", "difference",
 // and "mistake" where report.mistake_picture names one), `closing` its last line.
-function showReport(target, report, picture, closing) {
+export function showReport(target, report, picture, closing) {
   const verdict = el("p", { id: "verdict", class: `verdict ${report.matches ? "matches" : "differs"}`, "data-verdict": report.verdict, text: verdictLine(report) });
   const against = `${report.width} x ${report.height} against ${report.scene_title}${report.scene_chosen_by_server ? " (the closest figure)" : ""}`;
   const bar = el("div", { class: "colour-bar" }, el("span", { text: "0" }), el("span", { class: "ramp" }), el("span", { text: `${report.difference_scale} levels` }));

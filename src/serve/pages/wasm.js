@@ -1,6 +1,5 @@
 // The library's own code in the browser, as WebAssembly (static/vk-render.wasm, built from crates/web/ by build.rs):
 // what the explore page's editor and a site's check page call.
-"use strict";
 
 // The library's code compiled to WebAssembly (crates/web/src/lib.rs): the `.brdf` reader, a text in and a JSON
 // answer out, the albedo's cubature (crates/cubature) and the check's rules (crates/check-rules), an image
@@ -75,7 +74,7 @@ class WasmLibrary {
 
 // The WebAssembly library, loaded at the first call.
 let wasmLibrary = null;
-function library() {
+export function library() {
   if (!wasmLibrary) wasmLibrary = WasmLibrary.load().catch((error) => { wasmLibrary = null; throw error; });
   return wasmLibrary;
 }

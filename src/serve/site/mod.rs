@@ -41,7 +41,7 @@ pub struct SiteArgs {
 
 /// What the folder's `static/site.js` says (the server's says `null`).
 const SITE_SCRIPT: &str = "// Written by vk-render site: the pages read the files of data/ in the API's place \
-                           (src/serve/pages/site.js).\n\"use strict\";\nconst SITE = { data: \"data/\" };\n";
+                           (src/serve/pages/site.js).\nexport const SITE = { data: \"data/\" };\n";
 
 /// Writes the folder and prints what it holds.
 pub fn run(args: SiteArgs, options: RendererOptions) -> anyhow::Result<()> {

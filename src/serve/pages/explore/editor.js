@@ -4,7 +4,14 @@
 // (static/brdf-templates.json) and compiled by this browser's WebGL2, then drawn on the selected object.
 // Nothing is sent anywhere: the text stays in this browser's storage, and downloads as a file that
 // `vk-render render` renders.
-"use strict";
+import { el, getJson } from "../common.js";
+import { library } from "../wasm.js";
+import { analyticSuffix } from "../renderer/resources.js";
+import { drawAlbedo, drawLobe } from "./charts.js";
+import { chooseScene, materialControls, objectChoices } from "./controls.js";
+import { chooseRenderer } from "./frames.js";
+import { $, browserHoldsScene, isStudentMaterial, page } from "./state.js";
+import { browserAlbedo, browserLobe } from "./studies.js";
 
 // Where this browser keeps the text.
 const EDITOR_STORAGE = "vk-render.brdf";
@@ -41,7 +48,7 @@ vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y)
 ::end shader
 `;
 
-const editor = {
+export const editor = {
   reader: null,     // the WebAssembly library (WasmLibrary), once loaded
   templates: null,  // the analytic templates by entry, once fetched
   model: null,      // the model drawn now: what read_brdf answered, with its shaders
@@ -65,7 +72,7 @@ function editorError(line, message) {
 }
 
 // The editor's text as the file it downloads.
-function editorFile() {
+export function editorFile() {
   return $("editor-text").value;
 }
 
@@ -118,7 +125,7 @@ async function drawStudentModel() {
 
 // The student's model studied by this browser: its lobe (f_r cos θo in the plane of incidence, by the
 // probe pass) and its albedo, drawn; and said where its loops were stopped.
-function studentStudies() {
+export function studentStudies() {
   const index = page.scene.objects.findIndex((object) => isStudentMaterial(object.material));
   if (index < 0 || !browserHoldsScene()) return;
   let lobe;
@@ -129,7 +136,7 @@ function studentStudies() {
   }
   editor.lobe = lobe;
   $("editor-lobe").parentElement.hidden = false;
-  drawLobe($("editor-lobe"), lobe.values);
+  drawLobe($("editor-lobe"), lobe);
   saidStopped(lobe.stopped);
   studentAlbedo(index);
 }
@@ -207,16 +214,11 @@ function withStudentModel(scene, index, model) {
 }
 
 // The student's shaders beside the renderer's, under the names the renderer looks for (analyticSuffix).
-function registerStudentShaders(renderer) {
+export function registerStudentShaders(renderer) {
   if (!renderer || !editor.model || !page.scene.materials[editor.model.name]) return;
   for (const [entry, text] of Object.entries(editor.model.shaders)) {
     renderer.shaders[entry + analyticSuffix(page.scene, editor.model.name)] = text;
   }
-}
-
-// Whether `material` of the page's scene is the student's.
-function isStudentMaterial(material) {
-  return Boolean(page.scene && page.scene.materials[material] && page.scene.materials[material].student);
 }
 
 // Reads a file opened or dropped into the editor: refused unread past the reader's limit.
@@ -252,7 +254,8 @@ function downloadStudentFile() {
   setTimeout(() => URL.revokeObjectURL(link.href), 1000);
 }
 
-function startEditor() {
+export function startEditor() {
+  page.studentStudies = studentStudies;
   const text = $("editor-text");
   let kept = null;
   try {
@@ -295,4 +298,3 @@ function startEditor() {
   $("editor-off").addEventListener("click", () => { editorStatus(""); editorError(0, ""); chooseScene(page.scene.id); });
 }
 
-startEditor();
