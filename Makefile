@@ -59,7 +59,8 @@ test-suite: setup-test
 
 ## test-long: the long tests, which CI runs after `make test` (scripts/run-tests.sh --long: the tests marked
 ## #[ignore = "long: ..."]): the samplers' chi-square over each model's whole range at every view, every
-## catalogue scene drawn in the browser against `vk-render render`
+## catalogue scene drawn in the browser against `vk-render render`, the site's check page on every figure,
+## the exact mode under the studio and from measured tables' samplers
 test-long: setup-test
 	CARGO="$(CARGO)" scripts/run-tests.sh --long --release --locked
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# `make test`'s tests: cargo builds every test binary, then they run side by side, as many at once as the
-# machine has cores, the longest first, each binary's output shown whole when it ends; then the doc tests.
+# `make test`'s tests: cargo builds every test binary, then they run side by side, one more at once than
+# the machine has cores, the longest first, each binary's output shown whole when it ends; then the doc tests.
 # With VK_RENDER_TEST_PYTHON=1 the Python package's tests are one more of them (scripts/test-python.sh), its
 # wheel built and installed before any test starts. The tests that must have the machine to themselves run
 # alone at the end: those that bound a latency, and those whose shader never ends on purpose (on a GPU its
@@ -19,7 +19,7 @@
 # tests.
 #
 # Usage: scripts/run-tests.sh [--long] [CARGO-ARGS...]     (e.g. --release --locked)
-# Environment: CARGO (default cargo), VK_RENDER_TEST_JOBS (binaries at once; default: the cores),
+# Environment: CARGO (default cargo), VK_RENDER_TEST_JOBS (binaries at once; default: the cores and one),
 # VK_RENDER_TEST_TIMEOUT (seconds a binary may take; default 1200), VK_RENDER_TEST_PYTHON (1: the Python
 # tests too; VK_RENDER_WHEEL as scripts/python-env.sh).
 set -euo pipefail
@@ -32,11 +32,16 @@ if [ "${1:-}" = --long ]; then
     long_run=1
     shift
 fi
-jobs=${VK_RENDER_TEST_JOBS:-$(nproc)}
+# One more than the cores: each binary waits part of its time (on a browser, a server's timeouts, a child
+# process), and a machine busy with other work shares its cores among the processes that want them. On 2
+# cores beside two processes that keep both busy (2026-12-06): 900 s with 2 at once, 748 s with 3; with
+# nothing else running, 553 s either way.
+jobs=${VK_RENDER_TEST_JOBS:-$(($(nproc) + 1))}
 limit=${VK_RENDER_TEST_TIMEOUT:-1200}
 
-# The tests that take longest, by their time side by side on 2 cores (tests/serve_browser.rs 319 s,
-# sampling.rs 200 s, serve.rs 110 s, pytest 98 s, docs.rs 87 s, environment.rs 70 s, measured.rs 58 s):
+# The tests that take longest, by their time side by side on 2 cores (3 at once: tests/serve_browser.rs
+# 320 s, sampling.rs 222 s, serve.rs 183 s, docs.rs 162 s, measured.rs 131 s, pytest 129 s, environment.rs
+# 122 s):
 # started first, so that no long one is left running alone at the end.
 longest_first=(tests/serve_browser.rs tests/sampling.rs tests/serve.rs python/tests tests/docs.rs
     tests/environment.rs tests/measured.rs tests/analytic_fit.rs tests/cli.rs tests/preview.rs tests/analytic_cli.rs

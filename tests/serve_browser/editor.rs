@@ -75,9 +75,10 @@ fn draw(browser: &Browser, text: &str) -> (String, String) {
 }
 
 /// The student's model drawn on Figure 1's sphere against `vk-render render` of the downloaded file in the
-/// figure's scene, as drawn and with its parameters moved. `page` is the explore page's address (the
-/// server's or a site's); `everything`: also the mistakes, the hostile input, the storage and the lost context.
-pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path, everything: bool) {
+/// figure's scene, as drawn and with its parameters moved, its lobe and albedo, its mistakes, hostile input,
+/// the storage and a lost context. `page` is the explore page's address (the server's or a site's: the same
+/// script, which draws in the browser alone).
+pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path) {
     browser.open(&format!("{page}?scene=fig1-lambert"));
     browser.wait_for("the page's renderer", "return page.mode === 'browser';", Duration::from_secs(120));
     let (status, error) = draw(browser, STUDENT_BRDF);
@@ -149,9 +150,6 @@ pub fn the_students_own_brdf(browser: &Browser, page: &str, folder: &Path, every
     let shown = browser.run("return document.getElementById('editor-albedo-status').textContent;", &[]);
     assert!(shown.as_str().unwrap().starts_with("its directional albedo at 19 angles"), "{shown}");
     assert_console_clean(browser, "the editor");
-    if !everything {
-        return;
-    }
     // The picture (at the file's defaults, as the sliders show them) and the editor, for docs/serve.md.
     browser.resize(1400, 1400);
     browser.run("page.set = {}; sendState(true); window.scrollTo(0, 0);", &[]);

@@ -18,15 +18,11 @@ use vk_render::check::summary::Summary;
 use vk_render::check::{diagnose, render_candidates};
 use vk_render::scene::figures::practical_image;
 
-/// The figures the catalogue's mistakes show on.
-const FIGURES: [&str; 6] = [
-    "fig1-lambert",
-    "fig2-oren-nayar-sigma-0.6",
-    "fig3-plastic-s-16",
-    "fig4-gold-metalness-1.0",
-    "fig5-golden-bunny",
-    "fig6-blinn-phong",
-];
+/// The figures the catalogue's mistakes show on: those whose students' images `make test` checks in the
+/// page (the course's three families of models: Lambert, Phong, Cook-Torrance), and the others
+/// (`make test-long`).
+pub const FIGURES_CHECKED: [&str; 3] = ["fig1-lambert", "fig3-plastic-s-16", "fig4-gold-metalness-1.0"];
+pub const OTHER_FIGURES: [&str; 3] = ["fig2-oren-nayar-sigma-0.6", "fig5-golden-bunny", "fig6-blinn-phong"];
 
 fn jpeg(image: &RgbImage, quality: u8) -> Vec<u8> {
     let mut bytes = Vec::new();
@@ -86,18 +82,83 @@ fn assert_same(what: &str, page: &Value, library: &Value) {
     assert_eq!(page["needs"].as_array().unwrap().len(), needs, "{what}: the page names vk-render check where it stops");
 }
 
-/// The check page of the site at `url` against the library, and its refusals.
+/// The check page of the site at `url` against the library on the students' images of `FIGURES_CHECKED`,
+/// and its refusals.
 pub fn the_check_in_the_browser(browser: &Browser, url: &str, folder: &Path) {
+    open_check_page(browser, url);
+    students_images_as_the_library_checks_them(browser, &FIGURES_CHECKED);
+    let everything: Vec<&'static Mistake> = CATALOGUE.iter().collect();
+    // An image of another figure: no mistake explains it, and the page says where the check goes on.
+    let fig1 = practical_image("fig1-lambert").unwrap().scene(&[]).unwrap();
+    let lambert = common::renderer().render_rgb8(&fig1).unwrap();
+    let page = check_in_page(browser, "fig1.png", &jpeg(&lambert, 90), "fig4-gold-metalness-1.0");
+    assert_eq!(page["report"]["verdict"], "unexplained", "{page}");
+    assert_eq!(page["needs"], json!(["unexplained"]), "{page}");
+    // The command line's own words on a mistake's image, as the page's.
+    let nopi = folder.join("lambert-without-pi.jpg");
+    let candidates = render_candidates(&mut common::renderer(), &fig1, &everything[..1], |_, _| {}).unwrap();
+    std::fs::write(&nopi, jpeg(&candidates[1].image, 75)).unwrap();
+    let output = common::vk_render(&["check", nopi.to_str().unwrap(), "--scene", "fig1-lambert"]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("diagnosis: lambert-without-pi:"), "{stdout}");
+    let page = check_in_page(browser, "lambert-without-pi.jpg", &std::fs::read(&nopi).unwrap(), "fig1-lambert");
+    assert_eq!(page["report"]["mistakes"][0]["name"], "lambert-without-pi", "{page}");
+    assert_eq!(page["pictures"], json!(["yours", "exact", "difference", "mistake"]), "{page}");
+    browser.wait_for(
+        "the report's pictures",
+        "return [...document.images].every((i) => i.complete && i.naturalWidth > 0);",
+        Duration::from_secs(30),
+    );
+    browser.run("document.getElementById('verdict').scrollIntoView();", &[]);
+    super::save_screenshot(browser, "site-check.png");
+    // Hostile files: too large (refused before it is read), a text named .png, another size.
+    let refused = browser.run(
+        "const transfer = new DataTransfer();
+         transfer.items.add(new File([new Uint8Array(50 << 20)], 'huge.png', {type: 'image/png'}));
+         document.getElementById('drop').dispatchEvent(new DragEvent('drop', {dataTransfer: transfer, bubbles: true, cancelable: true}));
+         checkPage.last = null;
+         document.getElementById('submit').click();",
+        &[],
+    );
+    assert!(refused.is_null());
+    let huge = answer(browser);
+    assert!(
+        huge["error"].as_str().unwrap().contains("huge.png is 50.0 MB: this page takes images up to 16 MB"),
+        "{huge}"
+    );
+    let text = check_in_page(browser, "notes.png", b"these are my notes, not an image", "fig1-lambert");
+    assert_eq!(text["error"], "your image: not a PNG or JPEG image vk-render can read", "{text}");
+    let small = image::imageops::resize(&lambert, 300, 200, image::imageops::FilterType::Triangle);
+    let other = check_in_page(browser, "small.jpg", &jpeg(&small, 90), "fig1-lambert");
+    let said = other["error"].as_str().unwrap();
+    assert!(
+        said.starts_with("Your image is 300 x 200; this page checks the figures at their own size, 600 x 400.")
+            && said.contains("vk-render check small.jpg --scene fig1-lambert"),
+        "{said}"
+    );
+    // The page still works after them.
+    let page = check_in_page(browser, "fig1.jpg", &jpeg(&lambert, 75), "fig1-lambert");
+    assert_eq!(page["report"]["verdict"], "matches", "{page}");
+    super::assert_console_clean(browser, "the site's check page");
+}
+
+/// The site's check page at `url`, once its figures are listed.
+pub fn open_check_page(browser: &Browser, url: &str) {
     browser.open(url);
     browser.wait_for(
         "the figures",
         "return document.querySelectorAll('#scene option').length === 15;",
         Duration::from_secs(30),
     );
+}
+
+/// Each figure's exact image and each mistake shown on it (JPEG at quality 75), checked in the page: the
+/// verdict, the mistakes and the statistics the library gives.
+pub fn students_images_as_the_library_checks_them(browser: &Browser, figures: &[&str]) {
     let everything: Vec<&'static Mistake> = CATALOGUE.iter().collect();
     let mut verdicts = std::collections::BTreeMap::new();
     let mut seconds = Vec::new();
-    for figure in FIGURES {
+    for &figure in figures {
         let scene = practical_image(figure).unwrap().scene(&[]).unwrap();
         let candidates = render_candidates(&mut common::renderer(), &scene, &everything, |_, _| {}).unwrap();
         let mut students: Vec<(String, Vec<u8>)> =
@@ -132,63 +193,10 @@ pub fn the_check_in_the_browser(browser: &Browser, url: &str, folder: &Path) {
             seconds.push(page["seconds"].as_f64().unwrap());
         }
     }
-    // An image of another figure: no mistake explains it, and the page says where the check goes on.
-    let fig1 = practical_image("fig1-lambert").unwrap().scene(&[]).unwrap();
-    let lambert = common::renderer().render_rgb8(&fig1).unwrap();
-    let page = check_in_page(browser, "fig1.png", &jpeg(&lambert, 90), "fig4-gold-metalness-1.0");
-    assert_eq!(page["report"]["verdict"], "unexplained", "{page}");
-    assert_eq!(page["needs"], json!(["unexplained"]), "{page}");
-    // The command line's own words on a mistake's image, as the page's.
-    let nopi = folder.join("lambert-without-pi.jpg");
-    let candidates = render_candidates(&mut common::renderer(), &fig1, &everything[..1], |_, _| {}).unwrap();
-    std::fs::write(&nopi, jpeg(&candidates[1].image, 75)).unwrap();
-    let output = common::vk_render(&["check", nopi.to_str().unwrap(), "--scene", "fig1-lambert"]);
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(stdout.contains("diagnosis: lambert-without-pi:"), "{stdout}");
-    let page = check_in_page(browser, "lambert-without-pi.jpg", &std::fs::read(&nopi).unwrap(), "fig1-lambert");
-    assert_eq!(page["report"]["mistakes"][0]["name"], "lambert-without-pi", "{page}");
-    assert_eq!(page["pictures"], json!(["yours", "exact", "difference", "mistake"]), "{page}");
-    browser.wait_for(
-        "the report's pictures",
-        "return [...document.images].every((i) => i.complete && i.naturalWidth > 0);",
-        Duration::from_secs(30),
-    );
-    browser.run("document.getElementById('verdict').scrollIntoView();", &[]);
-    super::save_screenshot(browser, "site-check.png");
     seconds.sort_by(f64::total_cmp);
     eprintln!(
         "the site's check page: {} students' images, as vk-render check decides ({verdicts:?}); median {:.2} s a check",
         seconds.len(),
         seconds[seconds.len() / 2]
     );
-
-    // Hostile files: too large (refused before it is read), a text named .png, another size.
-    let refused = browser.run(
-        "const transfer = new DataTransfer();
-         transfer.items.add(new File([new Uint8Array(50 << 20)], 'huge.png', {type: 'image/png'}));
-         document.getElementById('drop').dispatchEvent(new DragEvent('drop', {dataTransfer: transfer, bubbles: true, cancelable: true}));
-         checkPage.last = null;
-         document.getElementById('submit').click();",
-        &[],
-    );
-    assert!(refused.is_null());
-    let huge = answer(browser);
-    assert!(
-        huge["error"].as_str().unwrap().contains("huge.png is 50.0 MB: this page takes images up to 16 MB"),
-        "{huge}"
-    );
-    let text = check_in_page(browser, "notes.png", b"these are my notes, not an image", "fig1-lambert");
-    assert_eq!(text["error"], "your image: not a PNG or JPEG image vk-render can read", "{text}");
-    let small = image::imageops::resize(&lambert, 300, 200, image::imageops::FilterType::Triangle);
-    let other = check_in_page(browser, "small.jpg", &jpeg(&small, 90), "fig1-lambert");
-    let said = other["error"].as_str().unwrap();
-    assert!(
-        said.starts_with("Your image is 300 x 200; this page checks the figures at their own size, 600 x 400.")
-            && said.contains("vk-render check small.jpg --scene fig1-lambert"),
-        "{said}"
-    );
-    // The page still works after them.
-    let page = check_in_page(browser, "fig1.jpg", &jpeg(&lambert, 75), "fig1-lambert");
-    assert_eq!(page["report"]["verdict"], "matches", "{page}");
-    super::assert_console_clean(browser, "the site's check page");
 }
