@@ -217,3 +217,52 @@ fn a_tie_names_every_mistake_and_a_scene_that_tells_them_apart() {
     assert_eq!(scene.0, "fig1-lambert");
     assert!(distance > 20.0, "{distance}");
 }
+
+/// A model's image depends on its file of shaders/brdf/ (`Brdf::shader_file`) and on what that file
+/// includes, and on no other file there, so the check renders no mistake of another model's file (it takes
+/// the correct image for it): each file broken in turn (every value it returns doubled), a sphere of each
+/// model changes where the file is the model's own, and keeps every byte where the model's file does not
+/// include it.
+#[test]
+fn each_models_image_depends_on_its_shader_file_and_what_it_includes_alone() {
+    let models = [
+        "brdf = \"lambert\"\nkd = [0.5, 0.5, 0.5]",
+        "brdf = \"oren-nayar\"\nkd = [0.5, 0.5, 0.5]\nsigma = 0.6",
+        "brdf = \"phong\"\nkd = [0.35, 0.35, 0.35]\nks = [0.15, 0.15, 0.15]\nshininess = 16.0",
+        "brdf = \"blinn-phong\"\nkd = [0.35, 0.35, 0.35]\nks = [0.15, 0.15, 0.15]\nshininess = 64.0",
+        "brdf = \"cook-torrance\"\nkd = [1.0, 0.85, 0.57]\nf0 = [1.0, 0.85, 0.57]\nroughness = 0.3\nmetalness = 0.5\ndiffuse = \"lambert\"",
+    ];
+    let scenes: Vec<Scene> = models
+        .iter()
+        .map(|material| {
+            let text = format!(
+                "[image]\nwidth = 48\nheight = 32\nsamples = 1\n[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, 1]\n\
+                 up = [0, 1, 0]\nfov_y = 60\n[[light]]\ntype = \"point\"\nposition = [1, 1, -1]\ncolor = [1, 1, 1]\n\
+                 power = 60\n[material.m]\n{material}\n[[object]]\nshape = \"sphere\"\ncenter = [0, 0, 3]\nradius = 1\n\
+                 material = \"m\"\n"
+            );
+            Scene::parse(&text, &common::root().join("tests/model.toml"), &[]).expect("a valid scene")
+        })
+        .collect();
+    let mut renderer = common::renderer();
+    let correct: Vec<RgbImage> = scenes.iter().map(|s| renderer.render_rgb8(s).unwrap()).collect();
+    let defaults = vk_render::vulkan::ShaderSources::default();
+    let own: Vec<&str> = scenes.iter().map(|s| s.materials["m"].shader_file().unwrap()).collect();
+    let files: Vec<String> = defaults.paths().filter(|p| own.contains(p)).map(str::to_string).collect();
+    assert_eq!(files.len(), 5, "{files:?}");
+    let mut wrong = Vec::new();
+    for file in &files {
+        let text = defaults.text(file).unwrap();
+        let broken = text.replace("return ", "return 2.0 * ");
+        renderer.set_shaders(defaults.clone().with_file(file, broken)).unwrap();
+        for (k, scene) in scenes.iter().enumerate() {
+            let changed = renderer.render_rgb8(scene).unwrap() != correct[k];
+            let included = defaults.included_by(own[k]).contains(file);
+            if (own[k] == file && !changed) || (!included && changed) {
+                wrong.push(format!("{file} broken: {} changed {changed}, includes it {included}", own[k]));
+            }
+        }
+    }
+    renderer.set_shaders(defaults).unwrap();
+    assert!(wrong.is_empty(), "{wrong:#?}");
+}

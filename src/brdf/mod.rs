@@ -202,6 +202,20 @@ impl Brdf {
         }
     }
 
+    /// Its file of `shaders/brdf/` (eval, sample and pdf), which `brdf_eval` and the samplers call for it
+    /// alone, dispatching on the material's model; `None` for a measurement or an analytic model, which are
+    /// not told apart here.
+    pub fn shader_file(&self) -> Option<&'static str> {
+        Some(match self {
+            Brdf::Lambert { .. } => "brdf/lambert.glsl",
+            Brdf::OrenNayar { .. } => "brdf/oren_nayar.glsl",
+            Brdf::Phong { .. } => "brdf/phong.glsl",
+            Brdf::BlinnPhong { .. } => "brdf/blinn_phong.glsl",
+            Brdf::CookTorrance { .. } => "brdf/cook_torrance.glsl",
+            Brdf::Measured(_) | Brdf::Analytic(_) => return None,
+        })
+    }
+
     /// The specular lobe of [`Brdf::eval`]; mirrors `brdf_eval_specular` in `shaders/common/brdf.glsl`.
     pub fn eval_specular(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         if n.dot(wi) <= 0.0 || n.dot(wo) <= 0.0 {

@@ -12,8 +12,9 @@ use crate::error::{Error, Result};
 use crate::pictures::output::tonemap;
 use crate::render::Renderer;
 use crate::scene::Scene;
+use crate::scene::View;
 use crate::vulkan::ShaderSources;
-use catalogue::{Mistake, ShowsOn, Variant};
+use catalogue::{Mistake, ShaderEdit, ShowsOn, Variant};
 pub use check_rules::{
     blurred, blurred_differences, differences, judged_pixels, regions, Region, Stats, EDGE_MARGIN, GRAZING_BAND,
     MATCH_P99, MATCH_RMS,
@@ -66,8 +67,12 @@ pub fn render_candidates(
                 .iter()
                 .try_fold(ShaderSources::default(), |sources, e| sources.with_replaced(e.file, e.from, e.to))
                 .map_err(|log| Error::Shader { path: mistake.name.to_string(), log })?;
-            renderer.set_shaders(sources)?;
-            *image = Some(renderer.render_rgb8(scene)?);
+            *image = Some(if reaches(scene, edits) {
+                renderer.set_shaders(sources)?;
+                renderer.render_rgb8(scene)?
+            } else {
+                exact.clone()
+            });
             done += 1;
             progress(done, mistakes.len());
         }
@@ -86,6 +91,27 @@ pub fn render_candidates(
             .filter_map(|(&mistake, image)| image.map(|image| Candidate { mistake: Some(mistake), image })),
     );
     Ok(candidates)
+}
+
+/// Whether shader edits `edits` can change `scene`'s image. An edit of a model's file (`brdf/X.glsl`) reaches
+/// only the materials whose model's file includes it ([`Brdf::shader_file`] and what it includes), and
+/// renders the very bytes of the correct image where none does (`tests/check.rs` breaks each file and holds
+/// every model to it): a check of a Lambert figure then renders none of the mistakes of Phong, Blinn-Phong,
+/// Oren-Nayar and Cook-Torrance. Any other edit, a measured or analytic material, a term view or an
+/// environment (whose samplers and albedo tables are not told apart here) may reach every pixel.
+fn reaches(scene: &Scene, edits: &[ShaderEdit]) -> bool {
+    if scene.image.view != View::Radiance || scene.environment.is_some() {
+        return true;
+    }
+    let sources = ShaderSources::default();
+    let mut reached = std::collections::BTreeSet::new();
+    for brdf in scene.materials.values() {
+        match brdf.shader_file() {
+            Some(file) => reached.extend(sources.included_by(file)),
+            None => return true,
+        }
+    }
+    edits.iter().any(|edit| !edit.file.starts_with("brdf/") || reached.contains(edit.file))
 }
 
 /// The course's output transform with the levels rounded instead of truncated.

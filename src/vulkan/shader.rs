@@ -90,6 +90,22 @@ impl ShaderSources {
         self.files.get(path).map(String::as_str)
     }
 
+    /// The file at `path` and every file it includes, directly or through another (`#include "FILE"` lines,
+    /// relative to shaders/): all that an edit can reach through it.
+    pub fn included_by(&self, path: &str) -> std::collections::BTreeSet<String> {
+        let mut found = std::collections::BTreeSet::new();
+        let mut next = vec![path.to_string()];
+        while let Some(file) = next.pop() {
+            let Some(text) = self.text(&file) else { continue };
+            if !found.insert(file.clone()) {
+                continue;
+            }
+            let includes = text.lines().filter_map(|line| line.trim().strip_prefix("#include \"")?.strip_suffix('"'));
+            next.extend(includes.map(str::to_string));
+        }
+        found
+    }
+
     /// Whether these are the sources embedded at build time, unchanged.
     fn are_embedded(&self) -> bool {
         self.files.len() == EMBEDDED.len() && EMBEDDED.iter().all(|(path, text)| self.text(path) == Some(*text))
