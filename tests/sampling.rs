@@ -51,11 +51,13 @@ impl Range {
         }
     }
 
-    /// The views of θo (degrees) a model is tested at.
-    fn theta_o(self) -> Vec<f64> {
+    /// The views of θo (degrees) a model is tested at, and the samples drawn at each: the command's 10⁶ over
+    /// the whole range, 2¹⁸ at the ends (χ² at 10⁶ samples is `make test-long`'s; the mutants, each caught
+    /// at the ends' views, are drawn at 10⁶).
+    fn options(self) -> SamplingOptions {
         match self {
-            Range::Whole => DEFAULT_THETA_O.to_vec(),
-            Range::Ends => THREE_VIEWS.to_vec(),
+            Range::Whole => options_at(&DEFAULT_THETA_O),
+            Range::Ends => SamplingOptions { samples: 1 << 18, ..options_at(&THREE_VIEWS) },
         }
     }
 }
@@ -121,7 +123,7 @@ fn phong_and_blinn_phong(range: Range) -> Vec<Brdf> {
 fn built_in_samplers_pass(brdfs: &[Brdf], range: Range) {
     let mut renderer = renderer();
     for brdf in brdfs {
-        let report = test_sampler(&mut renderer, brdf, &options_at(&range.theta_o()), || ()).unwrap();
+        let report = test_sampler(&mut renderer, brdf, &range.options(), || ()).unwrap();
         assert!(report.passed(), "{brdf:?}: {:#?}", failures(&report));
         // The views' p-values are spread, not all near 1 (a density counted twice would pass loosely).
         assert!(report.views.iter().any(|v| v.chi_square.p_value < 0.95), "{brdf:?}");
@@ -187,8 +189,9 @@ fn shipped_samplers_pass(range: Range) {
     }
     let mut renderer = renderer();
     for brdf in &brdfs {
-        let options =
-            SamplingOptions { views: views(&mut renderer, brdf, &range.theta_o(), None).unwrap(), ..options() };
+        let options = range.options();
+        let theta_o: Vec<f64> = options.views.iter().map(|view| view.0).collect();
+        let options = SamplingOptions { views: views(&mut renderer, brdf, &theta_o, None).unwrap(), ..options };
         let report = test_sampler(&mut renderer, brdf, &options, || ()).unwrap();
         assert!(report.passed(), "{}: {:#?}", vk_render::analysis::describe(brdf), failures(&report));
     }
@@ -226,7 +229,7 @@ fn measured_samplers_pass(range: Range) {
     };
     let mut renderer = renderer();
     for brdf in range.of(&[sharp, gold(0.5, 0.5), Brdf::OrenNayar { kd: grey(0.5), sigma: 0.6 }]) {
-        let report = test_sampler(&mut renderer, &measured(&brdf), &options_at(&range.theta_o()), || ()).unwrap();
+        let report = test_sampler(&mut renderer, &measured(&brdf), &range.options(), || ()).unwrap();
         assert!(report.passed(), "{brdf:?} as measured: {:#?}", failures(&report));
         assert!(report.views.iter().any(|v| v.chi_square.p_value < 0.95), "{brdf:?}");
     }
