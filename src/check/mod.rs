@@ -59,6 +59,7 @@ pub fn render_candidates(
         done += 1;
         progress(done, mistakes.len());
     }
+    let reached = files_reached(scene);
     let mut shader_variants = || -> Result<()> {
         for (image, mistake) in images.iter_mut().zip(mistakes) {
             let Variant::Shader(edits) = mistake.variant else { continue };
@@ -67,7 +68,7 @@ pub fn render_candidates(
                 .iter()
                 .try_fold(ShaderSources::default(), |sources, e| sources.with_replaced(e.file, e.from, e.to))
                 .map_err(|log| Error::Shader { path: mistake.name.to_string(), log })?;
-            *image = Some(if reaches(scene, edits) {
+            *image = Some(if reaches(reached.as_ref(), edits) {
                 renderer.set_shaders(sources)?;
                 renderer.render_rgb8(scene)?
             } else {
@@ -93,25 +94,30 @@ pub fn render_candidates(
     Ok(candidates)
 }
 
-/// Whether shader edits `edits` can change `scene`'s image. An edit of a model's file (`brdf/X.glsl`) reaches
-/// only the materials whose model's file includes it ([`Brdf::shader_file`] and what it includes), and
-/// renders the very bytes of the correct image where none does (`tests/check.rs` breaks each file and holds
-/// every model to it): a check of a Lambert figure then renders none of the mistakes of Phong, Blinn-Phong,
-/// Oren-Nayar and Cook-Torrance. Any other edit, a measured or analytic material, a term view or an
-/// environment (whose samplers and albedo tables are not told apart here) may reach every pixel.
-fn reaches(scene: &Scene, edits: &[ShaderEdit]) -> bool {
+/// The shader files whose edits can change `scene`'s image, or `None` for every file. An edit of a model's
+/// file (`brdf/X.glsl`) reaches only the materials whose model's file includes it ([`Brdf::shader_file`] and
+/// what it includes), and renders the very bytes of the correct image where none does (`tests/check.rs`
+/// breaks each file and holds every model to it): a check of a Lambert figure then renders none of the
+/// mistakes of Phong, Blinn-Phong, Oren-Nayar and Cook-Torrance. A measured or analytic material, a term
+/// view or an environment (whose samplers and albedo tables are not told apart here) may be reached by any.
+///
+/// [`Brdf::shader_file`]: crate::brdf::Brdf::shader_file
+fn files_reached(scene: &Scene) -> Option<std::collections::BTreeSet<String>> {
     if scene.image.view != View::Radiance || scene.environment.is_some() {
-        return true;
+        return None;
     }
     let sources = ShaderSources::default();
     let mut reached = std::collections::BTreeSet::new();
     for brdf in scene.materials.values() {
-        match brdf.shader_file() {
-            Some(file) => reached.extend(sources.included_by(file)),
-            None => return true,
-        }
+        reached.extend(sources.included_by(brdf.shader_file()?));
     }
-    edits.iter().any(|edit| !edit.file.starts_with("brdf/") || reached.contains(edit.file))
+    Some(reached)
+}
+
+/// Whether shader edits `edits` can change an image whose reached files are `reached` ([`files_reached`]):
+/// an edit outside the models' files (`brdf/`) always can.
+fn reaches(reached: Option<&std::collections::BTreeSet<String>>, edits: &[ShaderEdit]) -> bool {
+    reached.is_none_or(|files| edits.iter().any(|edit| !edit.file.starts_with("brdf/") || files.contains(edit.file)))
 }
 
 /// The course's output transform with the levels rounded instead of truncated.

@@ -100,8 +100,9 @@ impl ShaderSources {
             if !found.insert(file.clone()) {
                 continue;
             }
-            let includes = text.lines().filter_map(|line| line.trim().strip_prefix("#include \"")?.strip_suffix('"'));
-            next.extend(includes.map(str::to_string));
+            next.extend(
+                text.lines().filter_map(|line| brdf_file::included_file(line).map(|(file, _)| file.to_string())),
+            );
         }
         found
     }

@@ -439,6 +439,12 @@ pub const DOUBLE_FOLDER: &str = "double/";
 /// buffers (the material), and the double functions themselves.
 const INCLUDED_AS_THEY_ARE: [&str; 2] = ["common/material.glsl", "common/float64.glsl"];
 
+/// The file a line `#include "FILE"` names (relative to shaders/), and what follows its closing quote; `None`
+/// for any other line.
+pub fn included_file(line: &str) -> Option<(&str, &str)> {
+    line.trim_start().strip_prefix("#include \"")?.split_once('"')
+}
+
 /// One of vk-render's own shader files (shaders/`path`) with every float a double, as [`wrap_double`] makes a
 /// `.brdf` file's: its types, literals and float-only functions, and each file it includes taken from
 /// [`DOUBLE_FOLDER`] too (but the material's layout and float64.glsl, which it includes as they are). The
@@ -447,14 +453,11 @@ const INCLUDED_AS_THEY_ARE: [&str; 2] = ["common/material.glsl", "common/float64
 pub fn shader_in_double(text: &str) -> String {
     let included: Vec<String> = text
         .split_inclusive('\n')
-        .map(|line| {
-            let path = line.trim_start().strip_prefix("#include \"").and_then(|rest| rest.split_once('"'));
-            match path {
-                Some((path, rest)) if !INCLUDED_AS_THEY_ARE.contains(&path) => {
-                    format!("#include \"{DOUBLE_FOLDER}{path}\"{rest}")
-                }
-                _ => line.to_string(),
+        .map(|line| match included_file(line) {
+            Some((path, rest)) if !INCLUDED_AS_THEY_ARE.contains(&path) => {
+                format!("#include \"{DOUBLE_FOLDER}{path}\"{rest}")
             }
+            _ => line.to_string(),
         })
         .collect();
     in_double(&included.concat())

@@ -16,7 +16,9 @@ use std::fmt;
 
 use glam::Vec3;
 
-pub use glsl::{check_unit, file_error, shader_in_double, wrap, wrap_double, Target, DOUBLE_FOLDER, PREFIX};
+pub use glsl::{
+    check_unit, file_error, included_file, shader_in_double, wrap, wrap_double, Target, DOUBLE_FOLDER, PREFIX,
+};
 pub use parse::{parse, BrdfFile, ParseError};
 
 /// At most the first 40 characters of `text`, for messages that quote what the user gave.
